@@ -1,0 +1,57 @@
+# The ROS-free core: algorithm library, ROS-free tools and the core unit tests.
+# Never give these targets catkin include directories: a ROS include in the core must fail to build.
+
+file(GLOB_RECURSE LTM_CORE_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.cpp")
+add_library(longterm_mapper2d_core ${LTM_CORE_SOURCES})
+target_include_directories(longterm_mapper2d_core PUBLIC
+  $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>)
+target_link_libraries(longterm_mapper2d_core PUBLIC Eigen3::Eigen Ceres::ceres yaml-cpp PNG::PNG
+                      Threads::Threads)
+set_target_properties(longterm_mapper2d_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+# ROS-free command-line tools: src/tools/core/<name>_main.cpp -> executable <name>.
+file(GLOB LTM_CORE_TOOLS CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/src/tools/core/*_main.cpp")
+foreach(tool_source ${LTM_CORE_TOOLS})
+  get_filename_component(tool_name ${tool_source} NAME_WE)
+  string(REGEX REPLACE "_main$" "" tool_name ${tool_name})
+  add_executable(${tool_name} ${tool_source})
+  target_link_libraries(${tool_name} longterm_mapper2d_core)
+  list(APPEND LTM_CORE_TOOL_TARGETS ${tool_name})
+endforeach()
+
+# GoogleTest: catkin brings its own gtest targets; plain CMake uses the system package.
+if(TARGET gtest_main)
+  set(LTM_GTEST_LIBS gtest_main gtest)
+else()
+  find_package(GTest REQUIRED)
+  set(LTM_GTEST_LIBS GTest::gtest_main GTest::gtest)
+endif()
+include(GoogleTest)
+
+# Adds one gtest executable per test folder; each TEST becomes its own CTest test. Tests that call
+# GTEST_SKIP are reported as skipped by CTest.
+function(ltm_add_gtest_dir dir target)
+  file(GLOB sources CONFIGURE_DEPENDS "${dir}/*_test.cpp")
+  if(NOT sources)
+    return()
+  endif()
+  add_executable(${target} ${sources} ${ARGN})
+  target_link_libraries(${target} longterm_mapper2d_core ${LTM_GTEST_LIBS})
+  target_include_directories(${target} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
+  target_compile_definitions(${target} PRIVATE
+    LTM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
+    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}")
+  gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
+    PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS unit)
+endfunction()
+
+# Test helpers shared by several test folders (synthetic worlds and the like).
+file(GLOB LTM_TEST_SUPPORT CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/testing/*.cpp")
+
+file(GLOB LTM_CORE_TEST_DIRS LIST_DIRECTORIES true "${CMAKE_CURRENT_SOURCE_DIR}/test/core/*")
+foreach(dir ${LTM_CORE_TEST_DIRS})
+  if(IS_DIRECTORY ${dir})
+    get_filename_component(module ${dir} NAME)
+    ltm_add_gtest_dir(${dir} test_core_${module} ${LTM_TEST_SUPPORT})
+  endif()
+endforeach()

@@ -1,0 +1,69 @@
+# The ROS layer (converts, calls the core façade, publishes), the nodes, ROS tools and ROS tests.
+
+file(GLOB_RECURSE LTM_ROS_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/src/ros/*.cpp")
+add_library(longterm_mapper2d_ros ${LTM_ROS_SOURCES})
+target_include_directories(longterm_mapper2d_ros PUBLIC
+  "${CMAKE_CURRENT_SOURCE_DIR}/include" ${catkin_INCLUDE_DIRS})
+target_link_libraries(longterm_mapper2d_ros PUBLIC longterm_mapper2d_core ${catkin_LIBRARIES})
+add_dependencies(longterm_mapper2d_ros ${PROJECT_NAME}_generate_messages_cpp
+                 ${catkin_EXPORTED_TARGETS})
+
+# Nodes and ROS tools: src/nodes/<name>_main.cpp and src/tools/ros/<name>_main.cpp.
+file(GLOB LTM_ROS_EXECUTABLES CONFIGURE_DEPENDS
+  "${CMAKE_CURRENT_SOURCE_DIR}/src/nodes/*_main.cpp"
+  "${CMAKE_CURRENT_SOURCE_DIR}/src/tools/ros/*_main.cpp")
+foreach(exe_source ${LTM_ROS_EXECUTABLES})
+  get_filename_component(exe_name ${exe_source} NAME_WE)
+  string(REGEX REPLACE "_main$" "" exe_name ${exe_name})
+  add_executable(${exe_name} ${exe_source})
+  target_link_libraries(${exe_name} longterm_mapper2d_ros)
+  list(APPEND LTM_ROS_EXECUTABLE_TARGETS ${exe_name})
+endforeach()
+
+# ROS-layer unit tests (no roscore needed).
+file(GLOB LTM_ROS_TEST_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/ros/*_test.cpp")
+if(LTM_ROS_TEST_SOURCES)
+  add_executable(test_ros ${LTM_ROS_TEST_SOURCES} ${LTM_TEST_SUPPORT})
+  target_link_libraries(test_ros longterm_mapper2d_ros ${LTM_GTEST_LIBS})
+  target_include_directories(test_ros PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
+  target_compile_definitions(test_ros PRIVATE
+    LTM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
+    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"
+    LTM_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
+  gtest_discover_tests(test_ros DISCOVERY_TIMEOUT 60
+    PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS unit)
+endif()
+
+# Real-data tier: runs the built executables on ../shared/data. Each test skips itself (with the
+# reason) unless LTM_REAL_DATA=1 and the data folder exists; scripts/test.sh sets it under CI=true.
+file(GLOB LTM_REAL_DATA_TEST_SOURCES CONFIGURE_DEPENDS
+  "${CMAKE_CURRENT_SOURCE_DIR}/test/real_data/*_test.cpp")
+if(LTM_REAL_DATA_TEST_SOURCES)
+  add_executable(test_real_data ${LTM_REAL_DATA_TEST_SOURCES} ${LTM_TEST_SUPPORT})
+  target_link_libraries(test_real_data longterm_mapper2d_core ${LTM_GTEST_LIBS})
+  target_include_directories(test_real_data PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
+  target_compile_definitions(test_real_data PRIVATE
+    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"
+    LTM_BIN_DIR="$<TARGET_FILE_DIR:offline_mapper>")
+  add_dependencies(test_real_data ${LTM_ROS_EXECUTABLE_TARGETS} ${LTM_CORE_TOOL_TARGETS})
+  gtest_discover_tests(test_real_data DISCOVERY_TIMEOUT 60
+    PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS real_data TIMEOUT 1800)
+endif()
+
+# Integration tests with roscore: test/rostest/*.test, run through rostest by CTest.
+file(GLOB LTM_ROSTESTS CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/rostest/*.test")
+foreach(rostest_file ${LTM_ROSTESTS})
+  get_filename_component(rostest_name ${rostest_file} NAME_WE)
+  add_test(NAME rostest_${rostest_name}
+    COMMAND "${CMAKE_CURRENT_SOURCE_DIR}/scripts/run_rostest.sh" "${CATKIN_DEVEL_PREFIX}"
+            "${rostest_file}")
+  set_tests_properties(rostest_${rostest_name} PROPERTIES LABELS rostest TIMEOUT 600)
+endforeach()
+
+install(TARGETS longterm_mapper2d_core longterm_mapper2d_ros ${LTM_ROS_EXECUTABLE_TARGETS}
+        ${LTM_CORE_TOOL_TARGETS}
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(DIRECTORY include/ DESTINATION ${CATKIN_GLOBAL_INCLUDE_DESTINATION})
+install(DIRECTORY launch config rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})

@@ -1,0 +1,38 @@
+#include "longterm_mapper2d/ros/conversions.h"
+
+#include <cmath>
+
+namespace longterm_mapper2d_ros {
+
+longterm_mapper2d::LaserScan FromRosScan(const sensor_msgs::LaserScan& msg) {
+  longterm_mapper2d::LaserScan scan;
+  scan.stamp_s = msg.header.stamp.toSec();
+  scan.frame_id = msg.header.frame_id;
+  scan.angle_min_rad = msg.angle_min;
+  scan.angle_increment_rad = msg.angle_increment;
+  scan.range_min_m = msg.range_min;
+  scan.range_max_m = msg.range_max;
+  scan.ranges = msg.ranges;
+  return scan;
+}
+
+longterm_mapper2d::Pose2 FromRosTransform(const geometry_msgs::Transform& transform) {
+  const auto& q = transform.rotation;
+  // Yaw of a quaternion (ZYX convention); roll and pitch are ignored in the plane.
+  const double yaw = std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z));
+  return longterm_mapper2d::Pose2(transform.translation.x, transform.translation.y, yaw);
+}
+
+geometry_msgs::Transform ToRosTransform(const longterm_mapper2d::Pose2& pose) {
+  geometry_msgs::Transform transform;
+  transform.translation.x = pose.x();
+  transform.translation.y = pose.y();
+  transform.translation.z = 0.0;
+  transform.rotation.x = 0.0;
+  transform.rotation.y = 0.0;
+  transform.rotation.z = std::sin(pose.theta() / 2.0);
+  transform.rotation.w = std::cos(pose.theta() / 2.0);
+  return transform;
+}
+
+}  // namespace longterm_mapper2d_ros
