@@ -5,6 +5,7 @@
 #include "longterm_mapper2d/core/common/status.h"
 #include "longterm_mapper2d/core/config/input_options.h"
 #include "longterm_mapper2d/core/config/option_errors.h"
+#include "longterm_mapper2d/core/map/grid_options.h"
 
 namespace longterm_mapper2d {
 
@@ -12,12 +13,17 @@ namespace longterm_mapper2d {
 // configures the offline tool and the ROS node.
 struct MapperOptions {
   InputOptions input;
+  GridOptions grid;
 
   template <class V>
   void Visit(V& v) {
     v.Section("input", input);
+    v.Section("grid", grid);
   }
-  void Validate(OptionErrors& e) const { e.Section("input", input); }
+  void Validate(OptionErrors& e) const {
+    e.Section("input", input);
+    e.Section("grid", grid);
+  }
 };
 
 // Loads a MapperOptions YAML file over the defaults; errors name every bad or unknown parameter.
