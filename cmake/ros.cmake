@@ -44,7 +44,8 @@ if(LTM_REAL_DATA_TEST_SOURCES)
   target_include_directories(test_real_data PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
   target_compile_definitions(test_real_data PRIVATE
     LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"
-    LTM_BIN_DIR="$<TARGET_FILE_DIR:offline_mapper>")
+    LTM_BIN_DIR="$<TARGET_FILE_DIR:offline_mapper>"
+    LTM_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
   add_dependencies(test_real_data ${LTM_ROS_EXECUTABLE_TARGETS} ${LTM_CORE_TOOL_TARGETS})
   gtest_discover_tests(test_real_data DISCOVERY_TIMEOUT 60
     PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS real_data TIMEOUT 1800)

@@ -1,0 +1,72 @@
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace longterm_mapper2d {
+namespace testing {
+
+// The real-data tier runs only with LTM_REAL_DATA=1 (scripts/test.sh sets it under CI=true) and
+// when the shared data folder exists; otherwise each test reports itself skipped with the reason.
+inline std::string RealDataDirOrSkipReason(bool& available) {
+  available = false;
+  const char* enabled = std::getenv("LTM_REAL_DATA");
+  if (!enabled || std::string(enabled) != "1") {
+    return "skipped: real-data tier off (set LTM_REAL_DATA=1, or run scripts/test.sh with CI=true "
+           "or --real-data)";
+  }
+  const char* override_dir = std::getenv("LTM_DATA_DIR");
+  const std::string dir = override_dir ? override_dir : LTM_SHARED_DATA_DIR;
+  if (FILE* f = std::fopen((dir + "/SOURCES.md").c_str(), "r")) {
+    std::fclose(f);
+    available = true;
+    return dir;
+  }
+  return "skipped: no data folder at " + dir;
+}
+
+#define LTM_REQUIRE_REAL_DATA(dir_var)                                                   \
+  std::string dir_var;                                                                   \
+  {                                                                                      \
+    bool available_ = false;                                                             \
+    dir_var = ::longterm_mapper2d::testing::RealDataDirOrSkipReason(available_);         \
+    if (!available_) GTEST_SKIP() << dir_var;                                            \
+  }
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+// Runs a shell command, capturing its output.
+inline CommandResult RunCommand(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof(buffer), pipe)) result.output += buffer;
+  const int status = ::pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+inline std::string Tool(const std::string& name) { return std::string(LTM_BIN_DIR) + "/" + name; }
+
+inline std::string TempDir() {
+  char pattern[] = "/tmp/ltm_real_data_XXXXXX";
+  const char* dir = ::mkdtemp(pattern);
+  return dir ? dir : "/tmp";
+}
+
+// The value of "key": NUMBER in a JSON text, or NaN.
+inline double JsonNumber(const std::string& json, const std::string& key) {
+  const auto pos = json.find("\"" + key + "\":");
+  if (pos == std::string::npos) return std::nan("");
+  return std::strtod(json.c_str() + pos + key.size() + 3, nullptr);
+}
+
+}  // namespace testing
+}  // namespace longterm_mapper2d
