@@ -40,7 +40,8 @@ function(ltm_add_gtest_dir dir target)
   target_include_directories(${target} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
   target_compile_definitions(${target} PRIVATE
     LTM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
-    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}")
+    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"
+    LTM_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
   gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
     PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS unit)
 endfunction()

@@ -1,0 +1,127 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "longterm_mapper2d/core/simulation/session_simulator.h"
+#include "longterm_mapper2d/core/simulation/world.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+const char kRoom[] = R"(
+name: test_room
+robot: {speed_mps: 0.5, turn_rate_radps: 1.0, route: [[1, 1], [4, 1], [4, 3], [1, 3]]}
+walls: [[0, 0, 5, 0], [5, 0, 5, 4], [5, 4, 0, 4], [0, 4, 0, 0]]
+objects:
+  - {name: crate, sessions: [2], boxes: [[2, 1.5, 3, 2.5]]}
+people:
+  - {speed_mps: 1.0, path: [[0.5, 0.5], [4.5, 0.5]]}
+)";
+
+TEST(RayCasting, HitsSegmentsAndCirclesAtTheRightRange) {
+  const std::vector<Segment> walls = BoxSegments(0, 0, 10, 10);
+  const Eigen::Vector2d origin(2, 5);
+  EXPECT_NEAR(CastRay(walls, {}, origin, 0.0, 30.0), 8.0, 1e-9);
+  EXPECT_NEAR(CastRay(walls, {}, origin, M_PI, 30.0), 2.0, 1e-9);
+  EXPECT_NEAR(CastRay(walls, {}, origin, M_PI / 4, 30.0), 5.0 * std::sqrt(2.0), 1e-9);
+  // A person (circle of radius 0.5 at x = 5) in front of the wall.
+  EXPECT_NEAR(CastRay(walls, {Eigen::Vector3d(5, 5, 0.5)}, origin, 0.0, 30.0), 2.5, 1e-9);
+  // Beyond max range: no return.
+  EXPECT_TRUE(std::isinf(CastRay(walls, {}, origin, 0.0, 5.0)));
+  EXPECT_TRUE(std::isinf(CastRay({}, {}, origin, 0.0, 30.0)));
+}
+
+TEST(World, LoadsAndAppliesSessionObjects) {
+  const auto world = ParseWorld(kRoom);
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  EXPECT_EQ(world->StaticSegments(1).size(), 4u);
+  EXPECT_EQ(world->StaticSegments(2).size(), 8u);
+  EXPECT_NEAR(world->people[0].PositionAt(2.0).x(), 2.5, 1e-9);
+  // Walks back along the closed path.
+  EXPECT_NEAR(world->people[0].PositionAt(6.0).x(), 2.5, 1e-9);
+}
+
+TEST(World, ErrorsNameTheKey) {
+  auto world = ParseWorld("robot: {route: [[0, 0], [1, 1]]}\nwals: []\n");
+  ASSERT_FALSE(world.ok());
+  EXPECT_NE(world.status().message().find("wals: unknown key"), std::string::npos);
+  world = ParseWorld("robot: {route: [[0, 0], [1]]}\n");
+  ASSERT_FALSE(world.ok());
+  EXPECT_NE(world.status().message().find("robot/route[1]"), std::string::npos);
+  world = ParseWorld("walls: [[0, 0, 1, 1]]\n");
+  ASSERT_FALSE(world.ok());
+  EXPECT_NE(world.status().message().find("robot"), std::string::npos);
+}
+
+TEST(World, ShippedWorldsLoad) {
+  for (const char* name : {"small_room"}) {
+    const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/" + name + ".yaml");
+    EXPECT_TRUE(world.ok()) << name << ": " << world.status().message();
+  }
+}
+
+TEST(SessionSimulator, IsDeterministicForASeedAndDiffersAcrossSeeds) {
+  const auto world = ParseWorld(kRoom);
+  ASSERT_TRUE(world.ok());
+  SimulationOptions options;
+  options.duration_s = 20.0;
+  const auto a = SessionSimulator(*world, 1, options, 7).Run();
+  const auto b = SessionSimulator(*world, 1, options, 7).Run();
+  const auto c = SessionSimulator(*world, 1, options, 8).Run();
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.size(), 200u);
+  bool differs = false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].scan.ranges, b[i].scan.ranges);
+    EXPECT_EQ(a[i].odom_T_base.vector(), b[i].odom_T_base.vector());
+    differs |= a[i].scan.ranges != c[i].scan.ranges;
+  }
+  EXPECT_TRUE(differs);
+}
+
+TEST(SessionSimulator, OdometrySlipMatchesTheNoiseModel) {
+  // A long straight corridor: the odometry error after driving it estimates the slip sigma.
+  World world;
+  world.walls = BoxSegments(-1, -2, 1001, 2);
+  world.route_m = {Eigen::Vector2d(0, 0), Eigen::Vector2d(1000, 0)};
+  world.robot_speed_mps = 1.0;
+  SimulationOptions options;
+  options.duration_s = 100.0;
+  options.rate_hz = 10.0;
+  options.beams = 2;
+  options.slip_per_m = 0.05;
+  options.drift_rad_per_m = 0.0;
+  options.rotation_per_m = 0.0;
+  double sum = 0.0, sum_sq = 0.0;
+  const int runs = 40;
+  for (int seed = 0; seed < runs; ++seed) {
+    const auto steps = SessionSimulator(world, 1, options, seed).Run();
+    const double error = steps.back().odom_T_base.x() - steps.back().map_T_base.x();
+    sum += error;
+    sum_sq += error * error;
+  }
+  // 1000 steps of 0.1 m, each scaled by N(1, 0.05): error sigma = 0.05 * 0.1 * sqrt(1000).
+  const double expected_sigma = 0.05 * 0.1 * std::sqrt(1000.0);
+  const double mean = sum / runs;
+  const double sigma = std::sqrt(sum_sq / runs - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 3.0 * expected_sigma / std::sqrt(runs));
+  EXPECT_NEAR(sigma, expected_sigma, 0.35 * expected_sigma);
+}
+
+TEST(SessionSimulator, TruthRasterMarksWallsOccupied) {
+  const auto world = ParseWorld(kRoom);
+  ASSERT_TRUE(world.ok());
+  const OccupancyGrid grid = RasterizeWorld(*world, 2, 0.05);
+  const Eigen::Vector2i wall = grid.WorldToCell(Eigen::Vector2d(2.5, 0.0));
+  const Eigen::Vector2i crate = grid.WorldToCell(Eigen::Vector2d(2.0, 2.0));
+  const Eigen::Vector2i free = grid.WorldToCell(Eigen::Vector2d(1.0, 1.0));
+  EXPECT_EQ(grid.at(wall.x(), wall.y()), 100);
+  EXPECT_EQ(grid.at(crate.x(), crate.y()), 100);
+  EXPECT_EQ(grid.at(free.x(), free.y()), 0);
+  const OccupancyGrid session1 = RasterizeWorld(*world, 1, 0.05);
+  const Eigen::Vector2i crate1 = session1.WorldToCell(Eigen::Vector2d(2.0, 2.0));
+  EXPECT_EQ(session1.at(crate1.x(), crate1.y()), 0);
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
