@@ -9,10 +9,10 @@
 namespace longterm_mapper2d {
 namespace {
 
-using testing::JsonNumber;
-using testing::RunCommand;
-using testing::TempDir;
-using testing::Tool;
+using test_support::JsonNumber;
+using test_support::RunCommand;
+using test_support::TempDir;
+using test_support::Tool;
 
 TEST(RealDataIntel, BagAndCarmenLogGiveTheSameOdometryTrajectory) {
   LTM_REQUIRE_REAL_DATA(data);

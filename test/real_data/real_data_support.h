@@ -7,7 +7,7 @@
 #include <string>
 
 namespace longterm_mapper2d {
-namespace testing {
+namespace test_support {
 
 // The real-data tier runs only with LTM_REAL_DATA=1 (scripts/test.sh sets it under CI=true) and
 // when the shared data folder exists; otherwise each test reports itself skipped with the reason.
@@ -32,7 +32,7 @@ inline std::string RealDataDirOrSkipReason(bool& available) {
   std::string dir_var;                                                                   \
   {                                                                                      \
     bool available_ = false;                                                             \
-    dir_var = ::longterm_mapper2d::testing::RealDataDirOrSkipReason(available_);         \
+    dir_var = ::longterm_mapper2d::test_support::RealDataDirOrSkipReason(available_);         \
     if (!available_) GTEST_SKIP() << dir_var;                                            \
   }
 
@@ -68,5 +68,5 @@ inline double JsonNumber(const std::string& json, const std::string& key) {
   return std::strtod(json.c_str() + pos + key.size() + 3, nullptr);
 }
 
-}  // namespace testing
+}  // namespace test_support
 }  // namespace longterm_mapper2d

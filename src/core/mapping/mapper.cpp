@@ -1,57 +1,180 @@
 #include "longterm_mapper2d/core/mapping/mapper.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 
 namespace longterm_mapper2d {
 
-Mapper::Mapper(const MapperOptions& options) : options_(options) {}
+Mapper::Mapper(const MapperOptions& options) : options_(options), tracker_(options) {}
+
+Pose2 Mapper::MapTTracker() const {
+  if (!last_node_) return Pose2();
+  return nodes_.at(*last_node_).map_T_node * tracker_T_node_.at(*last_node_).inverse();
+}
+
+void Mapper::Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base) {
+  trajectory_.push_back({stamp_s, false, 0, tracker_T_base});
+  map_T_odom_ = MapTTracker() * tracker_T_base * odom_T_base.inverse();
+}
 
 ScanOutcome Mapper::AddScan(const ScanInput& input) {
   ++stats_.scans_received;
-  odom_trajectory_.push_back({input.scan.stamp_s, input.odom_T_base});
+  const Pose2 odometry_step =
+      has_last_processed_ ? last_odom_T_base_.Between(input.odom_T_base) : Pose2();
+  // Until the first processed scan, the tracker frame is the odometry frame.
+  const Pose2 dead_reckoned =
+      has_last_processed_ ? last_tracker_T_base_ * odometry_step : input.odom_T_base;
 
-  if (Status geometry = input.scan.ValidateGeometry(); !geometry.ok()) {
-    ++stats_.scans_skipped["invalid_geometry"];
+  auto skip = [&](const char* reason) {
+    ++stats_.scans_skipped[reason];
+    Record(input.scan.stamp_s, dead_reckoned, input.odom_T_base);
+    return ScanOutcome::kSkipped;
+  };
+  if (!input.odom_T_base.IsFinite() || !input.base_T_laser.IsFinite()) {
+    // Without a pose the scan cannot be placed at all.
+    ++stats_.scans_skipped["non_finite_pose"];
+    if (has_last_processed_) trajectory_.push_back({input.scan.stamp_s, false, 0, last_tracker_T_base_});
     return ScanOutcome::kSkipped;
   }
+  if (!input.scan.ValidateGeometry().ok()) return skip("invalid_geometry");
   if (static_cast<int>(input.scan.ranges.size()) < options_.input.min_beams) {
-    ++stats_.scans_skipped["too_few_beams"];
-    return ScanOutcome::kSkipped;
+    return skip("too_few_beams");
+  }
+  if (has_last_processed_ &&
+      odometry_step.translation().norm() < options_.tracker.min_translation_m &&
+      std::abs(odometry_step.theta()) < options_.tracker.min_rotation_rad) {
+    return skip("no_motion");
   }
 
-  // Odometry only: keep a waypoint whenever the robot moved far enough since the last one.
-  ScopedStageTimer timer(stats_.stage_times, "waypoints");
-  bool keep = !last_waypoint_odom_T_base_.has_value();
-  if (!keep) {
-    const Pose2 delta = last_waypoint_odom_T_base_->Between(input.odom_T_base);
-    keep = delta.translation().norm() >= options_.input.waypoint_spacing_m ||
-           std::abs(delta.theta()) >= options_.input.waypoint_spacing_rad;
+  Pose2 tracker_T_base = dead_reckoned;
+  bool failed = false;
+  if (!tracker_.initialized()) {
+    tracker_.Reset(input, tracker_T_base, stats_);
+  } else {
+    const TrackResult tracked = tracker_.Track(input, last_tracker_T_base_, odometry_step, stats_);
+    tracker_T_base = tracked.tracker_T_base;
+    failed = tracked.failed;
+    // Accumulate the stretch covariance: node_T_current = node_T_previous * step.
+    const Pose2 node_T_previous =
+        last_node_ ? tracker_T_node_.at(*last_node_).Between(last_tracker_T_base_) : Pose2();
+    const Pose2 step = last_tracker_T_base_.Between(tracker_T_base);
+    const Eigen::Matrix3d j1 = ComposeJacobianLeft(node_T_previous, step);
+    const Eigen::Matrix3d j2 = ComposeJacobianRight(node_T_previous, step);
+    stretch_covariance_ =
+        j1 * stretch_covariance_ * j1.transpose() + j2 * tracked.step_covariance * j2.transpose();
+    stretch_after_failure_ |= failed;
   }
-  if (!keep) {
-    ++stats_.scans_skipped["no_motion"];
-    return ScanOutcome::kSkipped;
-  }
-  last_waypoint_odom_T_base_ = input.odom_T_base;
-  waypoints_.push_back({input.odom_T_base * input.base_T_laser, input.scan});
   ++stats_.scans_processed;
+  has_last_processed_ = true;
+  last_odom_T_base_ = input.odom_T_base;
+  last_tracker_T_base_ = tracker_T_base;
+  Record(input.scan.stamp_s, tracker_T_base, input.odom_T_base);
+  MaybeAddWaypoint(input, tracker_T_base);
+
+  if (!last_node_) {
+    CreateNode(input.scan.stamp_s, tracker_T_base, false);
+  } else {
+    const Pose2 since_node = tracker_T_node_.at(*last_node_).Between(tracker_T_base);
+    if (failed || since_node.translation().norm() >= options_.tracker.node_translation_m ||
+        std::abs(since_node.theta()) >= options_.tracker.node_rotation_rad) {
+      CreateNode(input.scan.stamp_s, tracker_T_base, stretch_after_failure_);
+    }
+  }
   return ScanOutcome::kProcessed;
 }
 
-void Mapper::Finish() {}
+void Mapper::MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_base) {
+  if (last_waypoint_tracker_T_base_) {
+    const Pose2 moved = last_waypoint_tracker_T_base_->Between(tracker_T_base);
+    if (moved.translation().norm() < options_.input.waypoint_spacing_m &&
+        std::abs(moved.theta()) < options_.input.waypoint_spacing_rad) {
+      return;
+    }
+  }
+  last_waypoint_tracker_T_base_ = tracker_T_base;
+  pending_waypoints_.push_back({tracker_T_base, input.base_T_laser, input.scan});
+}
+
+void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure) {
+  LocalMapNode node;
+  node.id = next_node_id_++;
+  node.stamp_s = stamp_s;
+  node.map_T_node = MapTTracker() * tracker_T_base;
+  const Pose2 node_T_tracker = tracker_T_base.inverse();
+  node.cloud = Transform(node_T_tracker, tracker_.local_map());
+  for (PendingWaypoint& w : pending_waypoints_) {
+    node.waypoints.push_back({node_T_tracker * w.tracker_T_base, w.base_T_laser, std::move(w.scan)});
+  }
+  pending_waypoints_.clear();
+  for (std::size_t i = first_pending_entry_; i < trajectory_.size(); ++i) {
+    trajectory_[i].pose = node_T_tracker * trajectory_[i].pose;
+    trajectory_[i].attached = true;
+    trajectory_[i].node = node.id;
+  }
+  first_pending_entry_ = trajectory_.size();
+
+  if (last_node_) {
+    OdometryEdge edge;
+    edge.from = *last_node_;
+    edge.to = node.id;
+    edge.from_T_to = tracker_T_node_.at(*last_node_).Between(tracker_T_base);
+    Eigen::Matrix3d covariance = stretch_covariance_;
+    // A stretch of skipped scans only has no motion and no uncertainty; keep it invertible.
+    covariance += 1e-9 * Eigen::Matrix3d::Identity();
+    edge.information = covariance.inverse();
+    edge.information = 0.5 * (edge.information + edge.information.transpose());
+    edge.after_tracker_failure = after_failure;
+    edges_.push_back(edge);
+  }
+  stretch_covariance_.setZero();
+  stretch_after_failure_ = false;
+  tracker_T_node_[node.id] = tracker_T_base;
+  last_node_ = node.id;
+  nodes_.emplace(node.id, std::move(node));
+  stats_.counters["nodes"] = nodes_.size();
+}
+
+void Mapper::Finish() {
+  if (!has_last_processed_) return;
+  if (!pending_waypoints_.empty()) {
+    CreateNode(trajectory_.back().stamp_s, last_tracker_T_base_, stretch_after_failure_);
+  }
+  // Scans after the last node (skipped ones) are attached to it.
+  const Pose2 node_T_tracker = tracker_T_node_.at(*last_node_).inverse();
+  for (std::size_t i = first_pending_entry_; i < trajectory_.size(); ++i) {
+    trajectory_[i].pose = node_T_tracker * trajectory_[i].pose;
+    trajectory_[i].attached = true;
+    trajectory_[i].node = *last_node_;
+  }
+  first_pending_entry_ = trajectory_.size();
+}
 
 std::vector<StampedPose2> Mapper::Trajectory() const {
   std::vector<StampedPose2> trajectory;
-  trajectory.reserve(odom_trajectory_.size());
-  for (const auto& entry : odom_trajectory_) {
-    trajectory.push_back({entry.stamp_s, map_T_odom_ * entry.pose});
+  trajectory.reserve(trajectory_.size());
+  const Pose2 map_T_tracker = MapTTracker();
+  for (const auto& entry : trajectory_) {
+    const Pose2 pose = entry.attached ? nodes_.at(entry.node).map_T_node * entry.pose
+                                      : map_T_tracker * entry.pose;
+    trajectory.push_back({entry.stamp_s, pose});
   }
   return trajectory;
 }
 
 std::vector<PosedScan> Mapper::WaypointScans() const {
-  std::vector<PosedScan> scans = waypoints_;
-  for (auto& scan : scans) scan.map_T_laser = map_T_odom_ * scan.map_T_laser;
+  std::vector<PosedScan> scans;
+  for (const auto& [id, node] : nodes_) {
+    for (const Waypoint& w : node.waypoints) {
+      scans.push_back({node.map_T_node * w.node_T_base * w.base_T_laser, w.scan});
+    }
+  }
+  const Pose2 map_T_tracker = MapTTracker();
+  for (const PendingWaypoint& w : pending_waypoints_) {
+    scans.push_back({map_T_tracker * w.tracker_T_base * w.base_T_laser, w.scan});
+  }
   return scans;
 }
+
+Cloud Mapper::LocalMapInMap() const { return Transform(MapTTracker(), tracker_.local_map()); }
 
 }  // namespace longterm_mapper2d

@@ -8,8 +8,6 @@ namespace longterm_mapper2d {
 struct InputOptions {
   // Scans with fewer beams are ignored (too little to register against).
   int min_beams = 100;
-  // Readings beyond this are not used as points (they still count as free space up to it).
-  double max_usable_range_m = 30.0;
   // A waypoint (pose + raw scan, used for rendering and merging) every this much travel.
   double waypoint_spacing_m = 0.1;
   double waypoint_spacing_rad = 0.2;
@@ -17,13 +15,11 @@ struct InputOptions {
   template <class V>
   void Visit(V& v) {
     v("min_beams", min_beams);
-    v("max_usable_range_m", max_usable_range_m);
     v("waypoint_spacing_m", waypoint_spacing_m);
     v("waypoint_spacing_rad", waypoint_spacing_rad);
   }
   void Validate(OptionErrors& e) const {
     e.Require(min_beams >= 1, "min_beams", "must be at least 1");
-    e.Require(max_usable_range_m > 0.0, "max_usable_range_m", "must be positive");
     e.Require(waypoint_spacing_m > 0.0, "waypoint_spacing_m", "must be positive");
     e.Require(waypoint_spacing_rad > 0.0, "waypoint_spacing_rad", "must be positive");
   }

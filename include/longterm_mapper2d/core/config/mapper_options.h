@@ -3,7 +3,11 @@
 #include <string>
 
 #include "longterm_mapper2d/core/common/status.h"
+#include "longterm_mapper2d/core/cloud/cloud_merger.h"
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "longterm_mapper2d/core/config/input_options.h"
+#include "longterm_mapper2d/core/mapping/tracker_options.h"
+#include "longterm_mapper2d/core/registration/registration_options.h"
 #include "longterm_mapper2d/core/config/option_errors.h"
 #include "longterm_mapper2d/core/map/grid_options.h"
 
@@ -13,15 +17,27 @@ namespace longterm_mapper2d {
 // configures the offline tool and the ROS node.
 struct MapperOptions {
   InputOptions input;
+  CloudOptions cloud;
+  RegistrationOptions registration;
+  MergerOptions merger;
+  TrackerOptions tracker;
   GridOptions grid;
 
   template <class V>
   void Visit(V& v) {
     v.Section("input", input);
+    v.Section("cloud", cloud);
+    v.Section("registration", registration);
+    v.Section("merger", merger);
+    v.Section("tracker", tracker);
     v.Section("grid", grid);
   }
   void Validate(OptionErrors& e) const {
     e.Section("input", input);
+    e.Section("cloud", cloud);
+    e.Section("registration", registration);
+    e.Section("merger", merger);
+    e.Section("tracker", tracker);
     e.Section("grid", grid);
   }
 };

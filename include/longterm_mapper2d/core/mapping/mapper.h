@@ -1,11 +1,14 @@
 #pragma once
 
+#include <map>
 #include <optional>
 #include <vector>
 
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/geometry/pose2.h"
+#include "longterm_mapper2d/core/mapping/local_map.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
+#include "longterm_mapper2d/core/mapping/tracker.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
 
 namespace longterm_mapper2d {
@@ -15,6 +18,11 @@ enum class ScanOutcome { kProcessed, kSkipped };
 
 // The façade of the core: everything the ROS node and the offline tools call. Feed it scans with
 // their odometry in time order; ask it for poses, the map and statistics.
+//
+// Scans are tracked against a local map (Tracker); every 2.5 m / 1 rad (or on tracker failure) the
+// stretch becomes a node: a local map with its waypoints, joined to the previous node by an
+// odometry edge. Every input scan's pose is kept relative to its node, so the trajectory follows
+// later corrections of the node poses.
 class Mapper {
  public:
   explicit Mapper(const MapperOptions& options);
@@ -24,7 +32,7 @@ class Mapper {
   // Adds one scan. Every scan, processed or skipped, gets a pose in the trajectory.
   ScanOutcome AddScan(const ScanInput& input);
 
-  // Ends the session: final loop-closure check and optimisation.
+  // Ends the session: the open stretch becomes the last node.
   void Finish();
 
   // map_T_base for every input scan, in input order, at the final estimate.
@@ -33,16 +41,56 @@ class Mapper {
   Pose2 map_T_odom() const { return map_T_odom_; }
   // The raw scans kept as waypoints, placed in the map at the current estimate.
   std::vector<PosedScan> WaypointScans() const;
+  // Nodes by id, and the odometry edges between consecutive nodes.
+  const std::map<NodeId, LocalMapNode>& nodes() const { return nodes_; }
+  const std::vector<OdometryEdge>& edges() const { return edges_; }
+  // The tracker's current local map, in the map frame.
+  Cloud LocalMapInMap() const;
 
   const MapperStats& stats() const { return stats_; }
 
  private:
+  struct TrajectoryEntry {
+    double stamp_s = 0.0;
+    bool attached = false;
+    NodeId node = 0;
+    Pose2 pose;  // node_T_base if attached, else tracker_T_base
+  };
+  struct PendingWaypoint {
+    Pose2 tracker_T_base;
+    Pose2 base_T_laser;
+    LaserScan scan;
+  };
+
+  void Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base);
+  void MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_base);
+  void CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure);
+  // map_T_tracker for the open stretch (the last node's correction applies to it).
+  Pose2 MapTTracker() const;
+
   MapperOptions options_;
   MapperStats stats_;
+  Tracker tracker_;
   Pose2 map_T_odom_;
-  std::vector<StampedPose2> odom_trajectory_;  // odom_T_base per input scan
-  std::vector<PosedScan> waypoints_;            // odom_T_laser with the raw scan
-  std::optional<Pose2> last_waypoint_odom_T_base_;
+
+  // Tracking state.
+  bool has_last_processed_ = false;
+  Pose2 last_odom_T_base_;      // at the last processed scan
+  Pose2 last_tracker_T_base_;   // at the last processed scan
+  std::optional<Pose2> last_waypoint_tracker_T_base_;
+  Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
+  bool stretch_after_failure_ = false;
+
+  // Graph state: nodes, their tracker poses, edges.
+  std::map<NodeId, LocalMapNode> nodes_;
+  std::map<NodeId, Pose2> tracker_T_node_;
+  std::vector<OdometryEdge> edges_;
+  NodeId next_node_id_ = 0;
+  std::optional<NodeId> last_node_;
+
+  std::vector<TrajectoryEntry> trajectory_;
+  std::size_t first_pending_entry_ = 0;
+  std::vector<PendingWaypoint> pending_waypoints_;
 };
 
 }  // namespace longterm_mapper2d

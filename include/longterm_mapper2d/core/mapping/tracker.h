@@ -1,0 +1,59 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "longterm_mapper2d/core/cloud/cloud_merger.h"
+#include "longterm_mapper2d/core/config/mapper_options.h"
+#include "longterm_mapper2d/core/mapping/mapper_stats.h"
+#include "longterm_mapper2d/core/registration/nicp.h"
+#include "longterm_mapper2d/core/sensor/laser_scan.h"
+
+namespace longterm_mapper2d {
+
+struct TrackResult {
+  Pose2 tracker_T_base;
+  bool registered = false;  // scan matching ran and was accepted
+  bool failed = false;      // scan matching ran and was rejected: the local map was reset
+  // Covariance of the step prev_T_base, in the previous base frame (additive x, y, theta).
+  Eigen::Matrix3d step_covariance = Eigen::Matrix3d::Identity();
+};
+
+// Odometry noise of one step, as a covariance in the robot frame (TrackerOptions' model).
+Eigen::Matrix3d OdometryStepCovariance(const Pose2& step, const TrackerOptions& options);
+
+// SE(2) adjoint: X exp(delta) X^-1 = exp(Adjoint(X) delta) for delta = (dx, dy, dtheta).
+Eigen::Matrix3d Adjoint(const Pose2& X);
+
+// Scan-to-local-map tracking (ALGORITHMS.md §4.1): each scan is registered against a local map
+// kept in the tracker's own frame, with odometry as prior; accepted scans are merged into the map
+// with the free-space rules; a rejected registration resets the local map to the scan and dead
+// reckons.
+class Tracker {
+ public:
+  explicit Tracker(const MapperOptions& options);
+
+  bool initialized() const { return initialized_; }
+  // Starts (or restarts) the local map from this scan at tracker_T_base.
+  void Reset(const ScanInput& input, const Pose2& tracker_T_base, MapperStats& stats);
+  // Tracks one scan given the guess (previous estimate composed with the odometry step).
+  TrackResult Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
+                    const Pose2& odometry_step, MapperStats& stats);
+
+  // The local map, in the tracker frame.
+  const Cloud& local_map() const { return local_map_; }
+
+ private:
+  Cloud MakeCloud(const ScanInput& input, std::vector<int>* beams, MapperStats& stats) const;
+  void MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
+                         const std::vector<int>& beams, const Pose2& tracker_T_base,
+                         MapperStats& stats);
+
+  MapperOptions options_;
+  Nicp nicp_;
+  CloudMerger merger_;
+  Cloud local_map_;
+  bool initialized_ = false;
+  Eigen::Vector2d last_clip_position_ = Eigen::Vector2d::Zero();
+};
+
+}  // namespace longterm_mapper2d

@@ -1,0 +1,67 @@
+#pragma once
+
+#include "longterm_mapper2d/core/config/option_errors.h"
+
+namespace longterm_mapper2d {
+
+// Scan-to-local-map tracking and local-map (node) creation.
+struct TrackerOptions {
+  // Off: dead reckoning (odometry only), the baseline.
+  bool scan_matching = true;
+  // A scan is processed once odometry moved this much since the last processed scan.
+  double min_translation_m = 0.1;
+  double min_rotation_rad = 0.1;
+  // The local map keeps points within this range of the robot, clipped every clip_every_m.
+  double local_map_range_m = 5.0;
+  double clip_every_m = 2.0;
+  // A new node (local map) every so much motion, and on tracker failure.
+  double node_translation_m = 2.5;
+  double node_rotation_rad = 1.0;
+  // Odometry model of the registration prior and of dead reckoning, per step in the robot frame:
+  // sigma_xy = xy_m + xy_per_m * |d|, sigma_theta = theta_rad + theta_per_rad * |dtheta|
+  // + theta_per_m * |d|.
+  bool odometry_prior = true;
+  double odometry_sigma_xy_m = 0.02;
+  double odometry_sigma_xy_per_m = 0.1;
+  double odometry_sigma_theta_rad = 0.01;
+  double odometry_sigma_theta_per_rad = 0.1;
+  double odometry_sigma_theta_per_m = 0.05;
+  // Registration covariances (inverse Hessians) are optimistic; they are scaled by this before
+  // they accumulate into odometry edges.
+  double registration_covariance_scale = 10.0;
+
+  template <class V>
+  void Visit(V& v) {
+    v("scan_matching", scan_matching);
+    v("min_translation_m", min_translation_m);
+    v("min_rotation_rad", min_rotation_rad);
+    v("local_map_range_m", local_map_range_m);
+    v("clip_every_m", clip_every_m);
+    v("node_translation_m", node_translation_m);
+    v("node_rotation_rad", node_rotation_rad);
+    v("odometry_prior", odometry_prior);
+    v("odometry_sigma_xy_m", odometry_sigma_xy_m);
+    v("odometry_sigma_xy_per_m", odometry_sigma_xy_per_m);
+    v("odometry_sigma_theta_rad", odometry_sigma_theta_rad);
+    v("odometry_sigma_theta_per_rad", odometry_sigma_theta_per_rad);
+    v("odometry_sigma_theta_per_m", odometry_sigma_theta_per_m);
+    v("registration_covariance_scale", registration_covariance_scale);
+  }
+  void Validate(OptionErrors& e) const {
+    e.Require(min_translation_m >= 0.0, "min_translation_m", "must be non-negative");
+    e.Require(min_rotation_rad >= 0.0, "min_rotation_rad", "must be non-negative");
+    e.Require(local_map_range_m > 0.0, "local_map_range_m", "must be positive");
+    e.Require(clip_every_m > 0.0, "clip_every_m", "must be positive");
+    e.Require(node_translation_m > 0.0, "node_translation_m", "must be positive");
+    e.Require(node_rotation_rad > 0.0, "node_rotation_rad", "must be positive");
+    e.Require(odometry_sigma_xy_m > 0.0, "odometry_sigma_xy_m", "must be positive");
+    e.Require(odometry_sigma_theta_rad > 0.0, "odometry_sigma_theta_rad", "must be positive");
+    e.Require(odometry_sigma_xy_per_m >= 0.0 && odometry_sigma_theta_per_rad >= 0.0 &&
+                  odometry_sigma_theta_per_m >= 0.0,
+              "odometry_sigma_xy_per_m", "odometry noise slopes must be non-negative");
+    e.Require(registration_covariance_scale > 0.0, "registration_covariance_scale",
+              "must be positive");
+  }
+};
+
+}  // namespace longterm_mapper2d

@@ -1,0 +1,88 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "longterm_mapper2d/core/cloud/range_projector.h"
+#include "longterm_mapper2d/core/cloud/rich_point.h"
+#include "longterm_mapper2d/core/geometry/pose2.h"
+#include "longterm_mapper2d/core/registration/registration_options.h"
+
+namespace longterm_mapper2d {
+
+// A Gaussian belief on reference_T_current (e.g. from odometry). The information matrix is for the
+// error t2v(T * mean^-1), i.e. translation expressed in the reference frame.
+struct PosePrior {
+  Pose2 reference_T_current;
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+};
+
+struct RegistrationValidation {
+  int correspondences = 0;  // bins where both clouds have a facing point
+  int inliers = 0;          // ... whose ranges agree within inlier_distance_m
+  double inlier_ratio = 0.0;
+  double correspondence_ratio = 0.0;  // correspondences / current points
+  bool accepted = false;
+};
+
+struct RegistrationResult {
+  Pose2 reference_T_current;
+  // Information (inverse covariance) of the estimate: the Gauss-Newton Hessian of the last
+  // iteration, prior included, without damping.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  int iterations = 0;
+  int correspondences = 0;
+  int outliers = 0;  // pairs capped by the robust kernel in the last iteration
+  double chi2 = 0.0;
+  bool solved = false;  // false: no usable system (no pairs and no prior)
+  RegistrationValidation validation;
+};
+
+// NICP for 2D clouds with normals (Serafin & Grisetti): point-to-line plus normal error, damped
+// Gauss-Newton with a robust cap and an optional prior. Reuses its buffers between calls.
+class Nicp {
+ public:
+  explicit Nicp(const RegistrationOptions& options) : options_(options) {}
+
+  // Projective association: the reference is projected once from the guessed sensor pose
+  // (guess * current_T_sensor) into `geometry` bins; each current point looks for its partner in
+  // the bins around its own. For scan-to-local-map tracking.
+  RegistrationResult AlignProjective(const Cloud& reference, const Cloud& current,
+                                     const Pose2& guess, const Pose2& current_T_sensor,
+                                     const ProjectorGeometry& geometry,
+                                     const std::optional<PosePrior>& prior);
+
+  // Nearest-neighbour association through a hash grid over the reference: for map-to-map
+  // alignment (local maps of loop closures and merges), where there is no single viewpoint.
+  // Validation projects both clouds from `validation_viewpoint` (in the reference frame).
+  RegistrationResult AlignNearestNeighbour(const Cloud& reference, const Cloud& current,
+                                           const Pose2& guess, const ProjectorGeometry& geometry,
+                                           const Pose2& validation_viewpoint,
+                                           const std::optional<PosePrior>& prior);
+
+  // The validation of §3.4: both clouds seen from `viewpoint` (reference frame), bin by bin.
+  RegistrationValidation Validate(const Cloud& reference, const Cloud& current,
+                                  const Pose2& reference_T_current, const Pose2& viewpoint,
+                                  const ProjectorGeometry& geometry);
+
+  const RegistrationOptions& options() const { return options_; }
+
+ private:
+  struct Pair {
+    int reference;
+    int current;
+  };
+  template <class FindPairs>
+  RegistrationResult Solve(const Cloud& reference, const Cloud& current, const Pose2& guess,
+                           const std::optional<PosePrior>& prior, FindPairs&& find_pairs);
+
+  RegistrationOptions options_;
+  RangeImage reference_image_;
+  RangeImage current_image_;
+  std::vector<Pair> pairs_;
+  Cloud current_in_reference_;
+};
+
+}  // namespace longterm_mapper2d

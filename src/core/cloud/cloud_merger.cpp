@@ -1,0 +1,129 @@
+#include "longterm_mapper2d/core/cloud/cloud_merger.h"
+
+#include <cmath>
+
+namespace longterm_mapper2d {
+namespace {
+
+void Compact(Cloud& cloud, const std::vector<char>& remove) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!remove[i]) cloud[out++] = cloud[i];
+  }
+  cloud.resize(out);
+}
+
+}  // namespace
+
+RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight) {
+  RichPoint out;
+  const double weight = a.weight + b.weight;
+  out.point_m = (a.weight * a.point_m + b.weight * b.point_m) / weight;
+  const Eigen::Vector2d normal = a.weight * a.normal + b.weight * b.normal;
+  const double norm = normal.norm();
+  out.normal = norm > 1e-9 ? Eigen::Vector2d(normal / norm) : Eigen::Vector2d::Zero();
+  out.weight = std::min(weight, max_weight);
+  return out;
+}
+
+MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
+                              const std::vector<int>& scan_beams, const LaserScan& scan,
+                              const Pose2& frame_T_laser, double max_point_range_m) {
+  MergeStats stats;
+  // The map is seen through the scan's own beams: bin i is beam i.
+  ProjectorGeometry geometry = ProjectorGeometry::FromScan(scan, 1e9);
+  geometry.min_range_m = 0.0;
+  const Pose2 laser_T_frame = frame_T_laser.inverse();
+  ProjectCloud(geometry, laser_T_frame, map, &image_);
+  src_of_beam_.assign(scan.ranges.size(), -1);
+  for (std::size_t i = 0; i < scan_points.size(); ++i) src_of_beam_[scan_beams[i]] = static_cast<int>(i);
+
+  const double tau = options_.merge_distance_m;
+  const double cos_angle = std::cos(options_.merge_normal_angle_rad);
+  const std::size_t old_size = map.size();
+  remove_.assign(old_size, 0);
+  for (int beam = 0; beam < geometry.num_bins; ++beam) {
+    const int old_index = image_.nearest[beam];
+    const double r_old = image_.ranges_m[beam];
+    const int src = src_of_beam_[beam];
+    if (src >= 0) {
+      const RichPoint& p = scan_points[src];
+      const double r_new = scan.ranges[beam];
+      if (old_index < 0 || r_old - r_new > tau) {
+        map.push_back(p);
+        ++stats.added;
+      } else if (r_old - r_new < -tau) {
+        remove_[old_index] = 1;
+        map.push_back(p);
+        ++stats.replaced;
+      } else {
+        RichPoint& old = map[old_index];
+        const bool compatible = !old.has_normal() || !p.has_normal() ||
+                                old.normal.dot(p.normal) >= cos_angle;
+        if (compatible && old.has_normal() == p.has_normal()) {
+          old = Fuse(old, p, options_.max_weight);
+          ++stats.fused;
+        } else if (!old.has_normal() && p.has_normal()) {
+          old = p;
+          ++stats.replaced;
+        }
+      }
+      continue;
+    }
+    if (old_index < 0) continue;
+    // No new point in this bin: what did the beam see?
+    const float r = scan.ranges[beam];
+    double free_until = 0.0;
+    if (std::isnan(r) || (std::isfinite(r) && r < scan.range_min_m)) {
+      continue;  // not an observation
+    } else if (!std::isfinite(r) || r >= scan.range_max_m) {
+      free_until = options_.free_space_max_range_m;  // no return: free up to the cap
+    } else if (r >= max_point_range_m) {
+      free_until = r;  // a return too far to keep as a point, but the beam got there
+    }
+    if (r_old + tau < free_until) {
+      remove_[old_index] = 1;
+      ++stats.erased;
+    }
+  }
+  remove_.resize(map.size(), 0);
+  Compact(map, remove_);
+  if (options_.radial_merge) stats.thinned = RadialMerge(map, geometry, laser_T_frame);
+  return stats;
+}
+
+int CloudMerger::RadialMerge(Cloud& map, const ProjectorGeometry& geometry,
+                             const Pose2& laser_T_frame) {
+  ProjectCloud(geometry, laser_T_frame, map, &image_);
+  remove_.assign(map.size(), 0);
+  const Eigen::Matrix2d R = laser_T_frame.rotation();
+  const Eigen::Vector2d t = laser_T_frame.translation();
+  const double cos_angle = std::cos(options_.merge_normal_angle_rad);
+  int thinned = 0;
+  for (int i = 0; i < static_cast<int>(map.size()); ++i) {
+    const Eigen::Vector2d q = R * map[i].point_m + t;
+    const int bin = geometry.BinOf(std::atan2(q.y(), q.x()));
+    if (bin < 0) continue;
+    const int winner = image_.indices[bin];
+    if (winner < 0 || winner == i || remove_[winner]) continue;
+    if (std::abs(q.norm() - image_.ranges_m[bin]) > options_.merge_distance_m) continue;
+    RichPoint& w = map[winner];
+    if (w.has_normal() && map[i].has_normal() && w.normal.dot(map[i].normal) < cos_angle) continue;
+    w = Fuse(w, map[i], options_.max_weight);
+    remove_[i] = 1;
+    ++thinned;
+  }
+  Compact(map, remove_);
+  return thinned;
+}
+
+void CloudMerger::Clip(Cloud& map, const Eigen::Vector2d& centre, double range_m) {
+  const double range_sq = range_m * range_m;
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    if ((map[i].point_m - centre).squaredNorm() <= range_sq) map[out++] = map[i];
+  }
+  map.resize(out);
+}
+
+}  // namespace longterm_mapper2d

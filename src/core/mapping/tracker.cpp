@@ -1,0 +1,121 @@
+#include "longterm_mapper2d/core/mapping/tracker.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "longterm_mapper2d/core/cloud/range_projector.h"
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
+
+namespace longterm_mapper2d {
+
+Eigen::Matrix3d OdometryStepCovariance(const Pose2& step, const TrackerOptions& o) {
+  const double d = step.translation().norm();
+  const double sigma_xy = o.odometry_sigma_xy_m + o.odometry_sigma_xy_per_m * d;
+  const double sigma_theta = o.odometry_sigma_theta_rad +
+                             o.odometry_sigma_theta_per_rad * std::abs(step.theta()) +
+                             o.odometry_sigma_theta_per_m * d;
+  return Eigen::Vector3d(sigma_xy * sigma_xy, sigma_xy * sigma_xy, sigma_theta * sigma_theta)
+      .asDiagonal();
+}
+
+Eigen::Matrix3d Adjoint(const Pose2& X) {
+  // X exp(delta) X^-1 has rotation dtheta and translation R t_delta + dtheta (t_y, -t_x).
+  Eigen::Matrix3d ad = Eigen::Matrix3d::Identity();
+  ad.topLeftCorner<2, 2>() = X.rotation();
+  ad(0, 2) = X.y();
+  ad(1, 2) = -X.x();
+  return ad;
+}
+
+Tracker::Tracker(const MapperOptions& options)
+    : options_(options),
+      nicp_(options.registration),
+      merger_(options.merger) {}
+
+Cloud Tracker::MakeCloud(const ScanInput& input, std::vector<int>* beams,
+                         MapperStats& stats) const {
+  Cloud laser_points;
+  {
+    ScopedStageTimer timer(stats.stage_times, "conversion");
+    laser_points = PointsFromScan(input.scan, options_.cloud, beams);
+  }
+  ScopedStageTimer timer(stats.stage_times, "normals");
+  EstimateNormals(laser_points, options_.cloud);
+  return Transform(input.base_T_laser, laser_points);
+}
+
+void Tracker::Reset(const ScanInput& input, const Pose2& tracker_T_base, MapperStats& stats) {
+  std::vector<int> beams;
+  const Cloud base_points = MakeCloud(input, &beams, stats);
+  local_map_ = Transform(tracker_T_base, base_points);
+  initialized_ = true;
+  last_clip_position_ = tracker_T_base.translation();
+}
+
+void Tracker::MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
+                                const std::vector<int>& beams, const Pose2& tracker_T_base,
+                                MapperStats& stats) {
+  ScopedStageTimer timer(stats.stage_times, "merging");
+  const Cloud points = Transform(tracker_T_base, base_points);
+  const MergeStats merged = merger_.Merge(local_map_, points, beams, input.scan,
+                                          tracker_T_base * input.base_T_laser,
+                                          options_.cloud.max_range_m);
+  stats.counters["points_erased_free_space"] += merged.erased;
+  stats.counters["points_replaced"] += merged.replaced;
+  if ((tracker_T_base.translation() - last_clip_position_).norm() >= options_.tracker.clip_every_m) {
+    CloudMerger::Clip(local_map_, tracker_T_base.translation(), options_.tracker.local_map_range_m);
+    last_clip_position_ = tracker_T_base.translation();
+  }
+}
+
+TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
+                           const Pose2& odometry_step, MapperStats& stats) {
+  TrackResult result;
+  const Pose2 guess = previous_tracker_T_base * odometry_step;
+  const Eigen::Matrix3d odometry_covariance =
+      OdometryStepCovariance(odometry_step, options_.tracker);
+  result.tracker_T_base = guess;
+  result.step_covariance = odometry_covariance;
+  if (!options_.tracker.scan_matching) return result;
+
+  std::vector<int> beams;
+  const Cloud base_points = MakeCloud(input, &beams, stats);
+  std::optional<PosePrior> prior;
+  if (options_.tracker.odometry_prior) {
+    // The prior is on the body-frame step; the solver's error lives in the tracker frame
+    // (left perturbation), so the information is carried over by the adjoint of guess^-1.
+    const Eigen::Matrix3d ad = Adjoint(guess.inverse());
+    prior = PosePrior{guess, ad.transpose() * odometry_covariance.inverse() * ad};
+  }
+  RegistrationResult registration;
+  {
+    ScopedStageTimer timer(stats.stage_times, "registration");
+    const ProjectorGeometry geometry =
+        ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
+    registration = nicp_.AlignProjective(local_map_, base_points, guess, input.base_T_laser,
+                                         geometry, prior);
+  }
+  if (!registration.solved || !registration.validation.accepted ||
+      !registration.reference_T_current.IsFinite()) {
+    ++stats.counters["tracker_failures"];
+    Reset(input, guess, stats);
+    result.failed = true;
+    return result;
+  }
+  result.registered = true;
+  result.tracker_T_base = registration.reference_T_current;
+  // Covariance of the new pose in its own frame, scaled (the Hessian is optimistic), as the
+  // covariance of the step from the previous pose (which the local map already contains).
+  const Eigen::Matrix3d information = registration.information;
+  const Eigen::FullPivLU<Eigen::Matrix3d> lu(information);
+  if (lu.isInvertible()) {
+    const Eigen::Matrix3d ad = Adjoint(result.tracker_T_base.inverse());
+    Eigen::Matrix3d covariance = ad * lu.inverse() * ad.transpose();
+    covariance = 0.5 * (covariance + covariance.transpose());
+    result.step_covariance = options_.tracker.registration_covariance_scale * covariance;
+  }
+  MergeIntoLocalMap(input, base_points, beams, result.tracker_T_base, stats);
+  return result;
+}
+
+}  // namespace longterm_mapper2d

@@ -1,0 +1,245 @@
+#include "longterm_mapper2d/core/registration/nicp.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+namespace longterm_mapper2d {
+namespace {
+
+// One correspondence's contribution to the normal equations.
+//
+// With T = (R, t) mapping current into reference, q = R p_c + t and m = R n_c:
+//   e = [q - p_r ; m - n_r]                          (point error, normal error)
+//   Omega = blockdiag(Omega_p, w_n I),  Omega_p = w_perp n_r n_r' + w_tan (I - n_r n_r')
+// so the point error counts mostly along the reference normal (point-to-line). With the left
+// perturbation T <- exp(delta) T, delta = (dx, dy, dtheta):
+//   de/ddelta = [[1, 0, -q_y], [0, 1, q_x], [0, 0, -m_y], [0, 0, m_x]].
+// A pair with chi2 = e' Omega e above the cap c has Omega scaled by c / chi2, which caps its cost.
+struct Accumulator {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  double chi2 = 0.0;
+  int outliers = 0;
+
+  void Add(const Eigen::Vector2d& q, const Eigen::Vector2d& m, const RichPoint& ref,
+           const RegistrationOptions& o) {
+    const Eigen::Vector2d& n = ref.normal;
+    const Eigen::Matrix2d nn = n * n.transpose();
+    const Eigen::Matrix2d omega_p = o.normal_direction_information * nn +
+                                    o.tangent_direction_information * (Eigen::Matrix2d::Identity() - nn);
+    const double w_n = o.normal_error_information;
+    const Eigen::Vector2d e_p = q - ref.point_m;
+    const Eigen::Vector2d e_n = m - n;
+    double pair_chi2 = e_p.dot(omega_p * e_p) + w_n * e_n.squaredNorm();
+    double scale = 1.0;
+    if (pair_chi2 > o.robust_chi2) {
+      scale = o.robust_chi2 / pair_chi2;
+      pair_chi2 = o.robust_chi2;
+      ++outliers;
+    }
+    chi2 += pair_chi2;
+    Eigen::Matrix<double, 2, 3> j_p;
+    j_p << 1.0, 0.0, -q.y(), 0.0, 1.0, q.x();
+    Eigen::Matrix<double, 2, 3> j_n;
+    j_n << 0.0, 0.0, -m.y(), 0.0, 0.0, m.x();
+    const Eigen::Matrix<double, 3, 2> jt_omega_p = j_p.transpose() * omega_p;
+    H.noalias() += scale * (jt_omega_p * j_p + w_n * j_n.transpose() * j_n);
+    b.noalias() += scale * (jt_omega_p * e_p + w_n * j_n.transpose() * e_n);
+  }
+
+  // Prior on T: e_o = t2v(T * mean^-1); for the left perturbation,
+  //   de_o/ddelta = [[1, 0, -e_y], [0, 1, e_x], [0, 0, 1]].
+  void AddPrior(const Pose2& T, const PosePrior& prior) {
+    const Pose2 error = T * prior.reference_T_current.inverse();
+    const Eigen::Vector3d e = error.vector();
+    Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
+    j(0, 2) = -e.y();
+    j(1, 2) = e.x();
+    H.noalias() += j.transpose() * prior.information * j;
+    b.noalias() += j.transpose() * prior.information * e;
+    chi2 += e.dot(prior.information * e);
+  }
+};
+
+// Cells of a hash grid over a cloud, for nearest-neighbour search within one cell size.
+class PointGrid {
+ public:
+  PointGrid(const Cloud& cloud, double cell_m) : cell_m_(cell_m) {
+    for (int i = 0; i < static_cast<int>(cloud.size()); ++i) {
+      if (cloud[i].has_normal()) cells_[Key(cloud[i].point_m)].push_back(i);
+    }
+  }
+  template <class Visit>
+  void ForNeighbours(const Eigen::Vector2d& p, Visit&& visit) const {
+    const long cx = static_cast<long>(std::floor(p.x() / cell_m_));
+    const long cy = static_cast<long>(std::floor(p.y() / cell_m_));
+    for (long dx = -1; dx <= 1; ++dx) {
+      for (long dy = -1; dy <= 1; ++dy) {
+        const auto it = cells_.find(Pack(cx + dx, cy + dy));
+        if (it == cells_.end()) continue;
+        for (int index : it->second) visit(index);
+      }
+    }
+  }
+
+ private:
+  static std::int64_t Pack(long x, long y) {
+    return (static_cast<std::int64_t>(x) << 32) ^ (static_cast<std::int64_t>(y) & 0xffffffff);
+  }
+  std::int64_t Key(const Eigen::Vector2d& p) const {
+    return Pack(static_cast<long>(std::floor(p.x() / cell_m_)),
+                static_cast<long>(std::floor(p.y() / cell_m_)));
+  }
+  double cell_m_;
+  std::unordered_map<std::int64_t, std::vector<int>> cells_;
+};
+
+}  // namespace
+
+template <class FindPairs>
+RegistrationResult Nicp::Solve(const Cloud& reference, const Cloud& current, const Pose2& guess,
+                               const std::optional<PosePrior>& prior, FindPairs&& find_pairs) {
+  RegistrationResult result;
+  Pose2 T = guess;
+  const double cos_max_angle = std::cos(options_.max_normal_angle_rad);
+  const double max_distance_sq =
+      options_.max_correspondence_distance_m * options_.max_correspondence_distance_m;
+  Accumulator last;
+  for (int iteration = 0; iteration < options_.max_iterations; ++iteration) {
+    const Eigen::Matrix2d R = T.rotation();
+    const Eigen::Vector2d t = T.translation();
+    find_pairs(T, cos_max_angle, max_distance_sq);
+    Accumulator acc;
+    for (const Pair& pair : pairs_) {
+      const RichPoint& c = current[pair.current];
+      acc.Add(R * c.point_m + t, R * c.normal, reference[pair.reference], options_);
+    }
+    if (prior) acc.AddPrior(T, *prior);
+    result.iterations = iteration + 1;
+    result.correspondences = static_cast<int>(pairs_.size());
+    last = acc;
+    if (pairs_.size() < 3 && !prior) break;  // no usable system: keep the estimate
+    const Eigen::Matrix3d damped = acc.H + options_.damping * Eigen::Matrix3d::Identity();
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(damped);
+    if (ldlt.info() != Eigen::Success) break;
+    const Eigen::Vector3d delta = -ldlt.solve(acc.b);
+    if (!delta.allFinite()) break;
+    T = Pose2(delta.x(), delta.y(), delta.z()) * T;
+    result.solved = true;
+    if (delta.head<2>().norm() < options_.convergence_translation_m &&
+        std::abs(delta.z()) < options_.convergence_rotation_rad) {
+      break;
+    }
+  }
+  result.reference_T_current = T;
+  result.information = last.H;
+  result.chi2 = last.chi2;
+  result.outliers = last.outliers;
+  return result;
+}
+
+RegistrationResult Nicp::AlignProjective(const Cloud& reference, const Cloud& current,
+                                         const Pose2& guess, const Pose2& current_T_sensor,
+                                         const ProjectorGeometry& geometry,
+                                         const std::optional<PosePrior>& prior) {
+  const Pose2 viewpoint = guess * current_T_sensor;  // in the reference frame
+  const Pose2 viewpoint_T_reference = viewpoint.inverse();
+  ProjectCloud(geometry, viewpoint_T_reference, reference, &reference_image_);
+  const int window = options_.projective_window_bins;
+  auto find_pairs = [&](const Pose2& T, double cos_max_angle, double max_distance_sq) {
+    pairs_.clear();
+    const Pose2 view_T_current = viewpoint_T_reference * T;
+    const Eigen::Matrix2d R = T.rotation(), Rv = view_T_current.rotation();
+    const Eigen::Vector2d t = T.translation(), tv = view_T_current.translation();
+    for (int i = 0; i < static_cast<int>(current.size()); ++i) {
+      const RichPoint& c = current[i];
+      if (!c.has_normal()) continue;
+      const Eigen::Vector2d in_view = Rv * c.point_m + tv;
+      const int bin = geometry.BinOf(std::atan2(in_view.y(), in_view.x()));
+      if (bin < 0) continue;
+      const Eigen::Vector2d q = R * c.point_m + t;
+      const Eigen::Vector2d m = R * c.normal;
+      int best = -1;
+      double best_distance_sq = max_distance_sq;
+      for (int offset = -window; offset <= window; ++offset) {
+        const int b = geometry.Shift(bin, offset);
+        if (b < 0) continue;
+        const int j = reference_image_.indices[b];
+        if (j < 0) continue;
+        const RichPoint& r = reference[j];
+        const double d2 = (q - r.point_m).squaredNorm();
+        if (d2 < best_distance_sq && r.has_normal() && m.dot(r.normal) > cos_max_angle) {
+          best = j;
+          best_distance_sq = d2;
+        }
+      }
+      if (best >= 0) pairs_.push_back({best, i});
+    }
+  };
+  RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
+  result.validation = Validate(reference, current, result.reference_T_current,
+                               result.reference_T_current * current_T_sensor, geometry);
+  return result;
+}
+
+RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Cloud& current,
+                                               const Pose2& guess,
+                                               const ProjectorGeometry& geometry,
+                                               const Pose2& validation_viewpoint,
+                                               const std::optional<PosePrior>& prior) {
+  const PointGrid grid(reference, options_.max_correspondence_distance_m);
+  auto find_pairs = [&](const Pose2& T, double cos_max_angle, double max_distance_sq) {
+    pairs_.clear();
+    const Eigen::Matrix2d R = T.rotation();
+    const Eigen::Vector2d t = T.translation();
+    for (int i = 0; i < static_cast<int>(current.size()); ++i) {
+      const RichPoint& c = current[i];
+      if (!c.has_normal()) continue;
+      const Eigen::Vector2d q = R * c.point_m + t;
+      const Eigen::Vector2d m = R * c.normal;
+      int best = -1;
+      double best_distance_sq = max_distance_sq;
+      grid.ForNeighbours(q, [&](int j) {
+        const RichPoint& r = reference[j];
+        const double d2 = (q - r.point_m).squaredNorm();
+        if (d2 < best_distance_sq && m.dot(r.normal) > cos_max_angle) {
+          best = j;
+          best_distance_sq = d2;
+        }
+      });
+      if (best >= 0) pairs_.push_back({best, i});
+    }
+  };
+  RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
+  result.validation = Validate(reference, current, result.reference_T_current,
+                               validation_viewpoint, geometry);
+  return result;
+}
+
+RegistrationValidation Nicp::Validate(const Cloud& reference, const Cloud& current,
+                                      const Pose2& reference_T_current, const Pose2& viewpoint,
+                                      const ProjectorGeometry& geometry) {
+  RegistrationValidation v;
+  const Pose2 view_T_reference = viewpoint.inverse();
+  ProjectCloud(geometry, view_T_reference, reference, &reference_image_);
+  ProjectCloud(geometry, view_T_reference * reference_T_current, current, &current_image_);
+  for (int bin = 0; bin < geometry.num_bins; ++bin) {
+    if (reference_image_.indices[bin] < 0 || current_image_.indices[bin] < 0) continue;
+    ++v.correspondences;
+    if (std::abs(reference_image_.ranges_m[bin] - current_image_.ranges_m[bin]) <
+        options_.inlier_distance_m) {
+      ++v.inliers;
+    }
+  }
+  v.inlier_ratio = v.correspondences > 0 ? static_cast<double>(v.inliers) / v.correspondences : 0.0;
+  v.correspondence_ratio =
+      current.empty() ? 0.0 : static_cast<double>(v.correspondences) / current.size();
+  v.accepted = v.correspondences >= options_.min_correspondences &&
+               v.correspondence_ratio >= options_.min_correspondence_ratio &&
+               v.inlier_ratio >= options_.min_inlier_ratio;
+  return v;
+}
+
+}  // namespace longterm_mapper2d

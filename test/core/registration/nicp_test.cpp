@@ -1,0 +1,143 @@
+#include "longterm_mapper2d/core/registration/nicp.h"
+
+#include <gtest/gtest.h>
+
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
+#include "testing/synthetic_scans.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+using test_support::CastScan;
+using test_support::SyntheticLaser;
+
+struct Scene {
+  Cloud reference, current;
+  LaserScan current_scan;
+};
+
+// Reference: a scan from the origin, in the map frame. Current: a scan from `truth`, in its own
+// base frame (laser at the base origin).
+Scene MakeSetup(const std::vector<Segment>& world, const Pose2& truth, double noise_m,
+                SyntheticLaser laser = {}) {
+  laser.range_noise_m = noise_m;
+  Scene s;
+  const CloudOptions options;
+  s.reference = CloudFromScan(CastScan(world, {}, Pose2(), laser, 1), Pose2(), options);
+  s.current_scan = CastScan(world, {}, truth, laser, 2);
+  s.current = CloudFromScan(s.current_scan, Pose2(), options);
+  return s;
+}
+
+TEST(Nicp, RecoversAKnownOffsetOnCleanData) {
+  const Pose2 truth(0.3, -0.2, 0.08);
+  const Scene s = MakeSetup(test_support::IrregularRoom(), truth, 0.0);
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  const auto result = nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry,
+                                           std::nullopt);
+  ASSERT_TRUE(result.solved);
+  EXPECT_TRUE(result.validation.accepted);
+  EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
+  EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())),
+            0.01 * M_PI / 180.0);
+}
+
+TEST(Nicp, RecoversAKnownOffsetWithCentimetreNoise) {
+  const Pose2 truth(-0.25, 0.15, -0.06);
+  const Scene s = MakeSetup(test_support::IrregularRoom(), truth, 0.01);
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  const auto result = nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry,
+                                           std::nullopt);
+  ASSERT_TRUE(result.validation.accepted);
+  EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 0.01);
+  EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 0.005);
+}
+
+TEST(Nicp, NearestNeighbourAlignsWithALargeRotationError) {
+  const Pose2 truth(0.4, 0.3, 0.35);
+  const Scene s = MakeSetup(test_support::IrregularRoom(), truth, 0.0);
+  RegistrationOptions options;
+  options.max_correspondence_distance_m = 1.0;
+  options.max_normal_angle_rad = 0.8;
+  Nicp nicp(options);
+  const auto result = nicp.AlignNearestNeighbour(s.reference, s.current, Pose2(), 
+                                                 ProjectorGeometry::FullCircle(720, 30.0), Pose2(),
+                                                 std::nullopt);
+  EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
+  EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 1e-4);
+  EXPECT_TRUE(result.validation.accepted);
+}
+
+TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {
+  // In a featureless corridor x is unobservable: the scan says nothing about it, so the estimate
+  // must stay where odometry puts it, while y and theta come from the walls.
+  const Pose2 truth(1.0, 0.1, 0.02);
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;  // the corridor ends are out of range
+  const Scene s = MakeSetup(test_support::Corridor(), truth, 0.0, laser);
+  const Pose2 odometry(0.7, 0.0, 0.0);
+  PosePrior prior{odometry, Eigen::Vector3d(100.0, 100.0, 400.0).asDiagonal()};
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  const auto result = nicp.AlignProjective(s.reference, s.current, odometry, Pose2(), geometry, prior);
+  ASSERT_TRUE(result.solved);
+  EXPECT_NEAR(result.reference_T_current.x(), odometry.x(), 0.02);
+  EXPECT_NEAR(result.reference_T_current.y(), truth.y(), 0.01);
+  EXPECT_NEAR(result.reference_T_current.theta(), truth.theta(), 0.005);
+  // The information says so: little along x, much across.
+  EXPECT_LT(result.information(0, 0), 0.01 * result.information(1, 1));
+}
+
+TEST(Nicp, JacobianMatchesNumericalDerivatives) {
+  // The solver's linearisation: total chi2 of fixed pairs at T vs exp(delta) T.
+  RichPoint r;
+  r.point_m = Eigen::Vector2d(2.0, 1.0);
+  r.normal = Eigen::Vector2d(-1.0, 0.2).normalized();
+  RichPoint c;
+  c.point_m = Eigen::Vector2d(1.7, 1.3);
+  c.normal = Eigen::Vector2d(-0.9, -0.1).normalized();
+  RegistrationOptions o;
+  o.robust_chi2 = 1e9;
+  const Pose2 T(0.1, -0.2, 0.3);
+  auto error = [&](const Pose2& X) {
+    Eigen::Matrix<double, 4, 1> e;
+    e.head<2>() = X * c.point_m - r.point_m;
+    e.tail<2>() = X.rotation() * c.normal - r.normal;
+    return e;
+  };
+  const Eigen::Vector2d q = T * c.point_m, m = T.rotation() * c.normal;
+  Eigen::Matrix<double, 4, 3> analytic;
+  analytic << 1, 0, -q.y(), 0, 1, q.x(), 0, 0, -m.y(), 0, 0, m.x();
+  const double h = 1e-7;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    d[k] = h;
+    const Eigen::Matrix<double, 4, 1> numeric =
+        (error(Pose2::FromVector(d) * T) - error(Pose2::FromVector(-d) * T)) / (2 * h);
+    EXPECT_TRUE(numeric.isApprox(analytic.col(k), 1e-5)) << k << "\n" << numeric;
+  }
+}
+
+TEST(Nicp, EmptyCloudsFailCleanly) {
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FullCircle(360, 30.0);
+  const auto result = nicp.AlignProjective({}, {}, Pose2(1, 2, 3), Pose2(), geometry, std::nullopt);
+  EXPECT_FALSE(result.solved);
+  EXPECT_FALSE(result.validation.accepted);
+  EXPECT_TRUE(result.reference_T_current.IsFinite());
+  EXPECT_TRUE(result.information.allFinite());
+}
+
+TEST(Nicp, ValidationRejectsAWrongAlignment) {
+  const Scene s = MakeSetup(test_support::IrregularRoom(), Pose2(), 0.0);
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  EXPECT_TRUE(nicp.Validate(s.reference, s.current, Pose2(), Pose2(), geometry).accepted);
+  EXPECT_FALSE(
+      nicp.Validate(s.reference, s.current, Pose2(1.0, 0.5, 0.4), Pose2(), geometry).accepted);
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
