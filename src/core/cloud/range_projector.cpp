@@ -35,8 +35,9 @@ int ProjectorGeometry::BinOf(double bearing_rad) const {
     const int bin = static_cast<int>(std::lround(relative / angle_increment_rad));
     return bin >= num_bins ? bin - num_bins : bin;
   }
-  // Bearings are continuous across +-pi; bring them next to the field of view first.
-  relative = NormalizeAngle(relative - M_PI) + M_PI;
+  // Bearings are continuous across +-pi: measure from the middle of the field of view.
+  const double half_fov = 0.5 * angle_increment_rad * (num_bins - 1);
+  relative = NormalizeAngle(relative - half_fov) + half_fov;
   const long bin = std::lround(relative / angle_increment_rad);
   return bin >= 0 && bin < num_bins ? static_cast<int>(bin) : -1;
 }

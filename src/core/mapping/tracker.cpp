@@ -94,6 +94,13 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
         ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
     registration = nicp_.AlignProjective(local_map_, base_points, guess, input.base_T_laser,
                                          geometry, prior);
+    if (prior && !registration.validation.accepted) {
+      // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
+      // decide alone before giving up on the local map.
+      ++stats.counters["registrations_retried_without_prior"];
+      registration = nicp_.AlignProjective(local_map_, base_points, guess, input.base_T_laser,
+                                           geometry, std::nullopt);
+    }
   }
   if (!registration.solved || !registration.validation.accepted ||
       !registration.reference_T_current.IsFinite()) {

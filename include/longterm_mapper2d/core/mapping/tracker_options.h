@@ -21,10 +21,10 @@ struct TrackerOptions {
   // sigma_xy = xy_m + xy_per_m * |d|, sigma_theta = theta_rad + theta_per_rad * |dtheta|
   // + theta_per_m * |d|.
   bool odometry_prior = true;
-  double odometry_sigma_xy_m = 0.02;
-  double odometry_sigma_xy_per_m = 0.1;
-  double odometry_sigma_theta_rad = 0.01;
-  double odometry_sigma_theta_per_rad = 0.1;
+  double odometry_sigma_xy_m = 0.05;
+  double odometry_sigma_xy_per_m = 0.2;
+  double odometry_sigma_theta_rad = 0.1;
+  double odometry_sigma_theta_per_rad = 1.0;
   double odometry_sigma_theta_per_m = 0.05;
   // Registration covariances (inverse Hessians) are optimistic; they are scaled by this before
   // they accumulate into odometry edges.

@@ -1,0 +1,99 @@
+#include "longterm_mapper2d/core/cloud/range_projector.h"
+
+#include <gtest/gtest.h>
+
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+RichPoint At(double x, double y, Eigen::Vector2d normal = Eigen::Vector2d::Zero()) {
+  RichPoint p;
+  p.point_m = Eigen::Vector2d(x, y);
+  p.normal = normal;
+  return p;
+}
+
+TEST(RangeProjector, FullCircleWrapsAroundPi) {
+  const auto g = ProjectorGeometry::FullCircle(360, 30.0);
+  EXPECT_TRUE(g.wraps);
+  EXPECT_EQ(g.BinOf(-M_PI), 0);
+  EXPECT_EQ(g.BinOf(M_PI), 0);  // the same direction
+  EXPECT_EQ(g.BinOf(M_PI - 0.001), 0);
+  EXPECT_EQ(g.Shift(0, -1), 359);
+  EXPECT_EQ(g.Shift(359, 2), 1);
+}
+
+TEST(RangeProjector, BinsFollowTheScanGeometry) {
+  LaserScan scan;
+  scan.angle_min_rad = -M_PI / 2;
+  scan.angle_increment_rad = M_PI / 180;
+  scan.range_max_m = 80;
+  scan.ranges.assign(180, 1.0f);
+  const auto g = ProjectorGeometry::FromScan(scan, 30.0);
+  EXPECT_FALSE(g.wraps);
+  EXPECT_EQ(g.num_bins, 180);
+  EXPECT_EQ(g.BinOf(-M_PI / 2), 0);
+  EXPECT_EQ(g.BinOf(scan.BeamAngle(17)), 17);
+  EXPECT_EQ(g.BinOf(M_PI), -1);  // behind
+  EXPECT_EQ(g.Shift(0, -1), -1);
+}
+
+TEST(RangeProjector, ZBufferKeepsTheNearestAndBackFacesOcclude) {
+  const auto g = ProjectorGeometry::FullCircle(360, 30.0);
+  RangeImage image;
+  // Two points on the same ray: the nearer wins. A back-facing point in front of a third occludes
+  // it without being matchable.
+  const Cloud cloud = {At(3.0, 0.0, {-1, 0}), At(2.0, 0.0, {-1, 0}),
+                       At(0.0, 4.0, {0, -1}), At(0.0, 2.0, {0, 1})};
+  ProjectCloud(g, Pose2(), cloud, &image);
+  const int ahead = g.BinOf(0.0), left = g.BinOf(M_PI / 2);
+  EXPECT_EQ(image.indices[ahead], 1);
+  EXPECT_FLOAT_EQ(image.ranges_m[ahead], 2.0f);
+  EXPECT_EQ(image.indices[left], -1);
+  EXPECT_EQ(image.nearest[left], 3);
+  EXPECT_FLOAT_EQ(image.ranges_m[left], 2.0f);
+  // Seen from a viewpoint 1 m ahead, the first points are 1 m and 2 m away.
+  ProjectCloud(g, Pose2(1.0, 0.0, 0.0).inverse(), cloud, &image);
+  EXPECT_FLOAT_EQ(image.ranges_m[ahead], 1.0f);
+}
+
+TEST(ScanToCloud, NormalsFaceTheLaserAndCornersHaveNone) {
+  // A wall at x = 2 seen by 181 beams over 180 degrees: normals point back at the laser (-x).
+  LaserScan scan;
+  scan.angle_min_rad = -M_PI / 2;
+  scan.angle_increment_rad = M_PI / 180;
+  scan.range_min_m = 0.05;
+  scan.range_max_m = 20;
+  for (int i = 0; i < 181; ++i) {
+    const double a = scan.BeamAngle(i);
+    scan.ranges.push_back(std::cos(a) > 0.2 ? static_cast<float>(2.0 / std::cos(a))
+                                            : std::numeric_limits<float>::infinity());
+  }
+  const Pose2 base_T_laser(0.3, 0.0, 0.0);
+  std::vector<int> beams;
+  const Cloud cloud = CloudFromScan(scan, base_T_laser, CloudOptions{}, &beams);
+  ASSERT_GT(cloud.size(), 100u);
+  EXPECT_EQ(beams.size(), cloud.size());
+  int with_normal = 0;
+  for (const RichPoint& p : cloud) {
+    EXPECT_NEAR(p.point_m.x(), 2.3, 1e-5);  // the mount offset is applied
+    if (p.has_normal()) {
+      ++with_normal;
+      EXPECT_NEAR(p.normal.x(), -1.0, 1e-6);
+    }
+    EXPECT_NEAR(p.weight, 1.0 / (p.point_m - base_T_laser.translation()).norm(), 1e-5);
+  }
+  EXPECT_GT(with_normal, 100);
+  // Isolated returns (fewer than 5 neighbours within 0.3 m) get no normal.
+  LaserScan sparse = scan;
+  for (std::size_t i = 0; i < sparse.ranges.size(); ++i) {
+    if (i % 10 != 0) sparse.ranges[i] = std::numeric_limits<float>::quiet_NaN();
+  }
+  for (const RichPoint& p : CloudFromScan(sparse, Pose2(), CloudOptions{})) {
+    EXPECT_FALSE(p.has_normal());
+  }
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d

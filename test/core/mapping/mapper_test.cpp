@@ -1,0 +1,175 @@
+#include "longterm_mapper2d/core/mapping/mapper.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <random>
+
+#include "testing/synthetic_scans.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+using test_support::CastScan;
+using test_support::SyntheticLaser;
+
+// A robot driving a loop through a long irregular corridor world with noisy odometry.
+struct Drive {
+  std::vector<ScanInput> inputs;
+  std::vector<Pose2> truth;
+};
+
+std::vector<Segment> LongWorld() {
+  // Two rooms joined by a corridor with doorways and clutter, 24 m long.
+  auto seg = [](double x1, double y1, double x2, double y2) {
+    return Segment{Eigen::Vector2d(x1, y1), Eigen::Vector2d(x2, y2)};
+  };
+  std::vector<Segment> s = {seg(-2, -2, 22, -2), seg(22, -2, 22, 3), seg(22, 3, -2, 3),
+                            seg(-2, 3, -2, -2)};
+  for (double x = 1.0; x < 21.0; x += 2.7) {
+    const auto box = BoxSegments(x, -1.8 + 0.3 * std::sin(x), x + 0.4, -1.2 + 0.3 * std::sin(x));
+    s.insert(s.end(), box.begin(), box.end());
+    s.push_back(seg(x + 1.0, 3.0, x + 1.3, 2.2 + 0.2 * std::cos(x)));
+  }
+  return s;
+}
+
+Drive MakeDrive(int steps, double step_m, std::uint64_t seed, double slip = 0.03,
+                double drift_rad_per_m = 0.01) {
+  Drive drive;
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const auto world = LongWorld();
+  SyntheticLaser laser;
+  laser.beams = 270;
+  laser.fov_rad = 1.5 * M_PI;
+  laser.range_noise_m = 0.01;
+  Pose2 truth(0.0, 0.5, 0.0), odom = truth;
+  for (int i = 0; i < steps; ++i) {
+    const Pose2 step(step_m, 0.0, 0.02 * std::cos(0.1 * i));  // heading stays within 0.2 rad
+    if (i > 0) {
+      truth = truth * step;
+      odom = odom * Pose2(step.x() * (1.0 + slip * unit(rng)), 0.0,
+                          step.theta() + drift_rad_per_m * step.x() + 0.005 * unit(rng));
+    }
+    ScanInput input;
+    input.scan = CastScan(world, {}, truth, laser, seed * 1000 + i);
+    input.scan.stamp_s = 0.1 * i;
+    input.odom_T_base = odom;
+    drive.inputs.push_back(input);
+    drive.truth.push_back(truth);
+  }
+  return drive;
+}
+
+double FinalError(const std::vector<StampedPose2>& trajectory, const Drive& drive) {
+  return (trajectory.back().pose.translation() - drive.truth.back().translation()).norm();
+}
+
+TEST(Mapper, ScanMatchingBeatsNoisyOdometry) {
+  const Drive drive = MakeDrive(150, 0.12, 3);
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  MapperOptions dead_reckoning;
+  dead_reckoning.tracker.scan_matching = false;
+  Mapper odometry(dead_reckoning);
+  for (const auto& input : drive.inputs) odometry.AddScan(input);
+  odometry.Finish();
+  const auto tracked = mapper.Trajectory();
+  ASSERT_EQ(tracked.size(), drive.inputs.size());
+  const double tracked_error = FinalError(tracked, drive);
+  const double odometry_error = FinalError(odometry.Trajectory(), drive);
+  EXPECT_LT(tracked_error, 0.1);
+  EXPECT_LT(tracked_error, 0.3 * odometry_error) << tracked_error << " vs " << odometry_error;
+  EXPECT_EQ(mapper.stats().counters.count("tracker_failures"), 0u);
+}
+
+TEST(Mapper, CreatesANodeEveryStretchWithWaypointsAndEdges) {
+  const Drive drive = MakeDrive(150, 0.12, 4);  // 18 m
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  // 18 m in 2.5 m stretches: the first node, 7 full stretches and the last partial one.
+  EXPECT_GE(mapper.nodes().size(), 8u);
+  EXPECT_LE(mapper.nodes().size(), 9u);
+  EXPECT_EQ(mapper.edges().size(), mapper.nodes().size() - 1);
+  std::size_t waypoints = 0;
+  for (const auto& [id, node] : mapper.nodes()) {
+    waypoints += node.waypoints.size();
+    EXPECT_FALSE(node.cloud.empty());
+  }
+  // One waypoint per 0.1 m of travel at most (every processed scan here moved 0.12 m).
+  EXPECT_EQ(waypoints, drive.inputs.size());
+  for (std::size_t i = 0; i < mapper.edges().size(); ++i) {
+    const OdometryEdge& edge = mapper.edges()[i];
+    EXPECT_EQ(edge.to, edge.from + 1);
+    // Every stretch is 2.5 m (to the next scan), except the last one that Finish() closes.
+    if (i + 1 < mapper.edges().size()) {
+      EXPECT_LT(std::abs(edge.from_T_to.translation().norm() - 2.5), 0.15);
+    }
+    EXPECT_TRUE(edge.information.allFinite());
+    EXPECT_GT(edge.information.determinant(), 0.0);
+  }
+  EXPECT_EQ(mapper.WaypointScans().size(), waypoints);
+}
+
+TEST(Mapper, SkipsScansWhileOdometryStandsStillButGivesThemPoses) {
+  Drive drive = MakeDrive(20, 0.12, 5);
+  // Repeat each scan with the same odometry: the copies are skipped.
+  std::vector<ScanInput> inputs;
+  for (auto input : drive.inputs) {
+    inputs.push_back(input);
+    input.scan.stamp_s += 0.05;
+    inputs.push_back(input);
+  }
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : inputs) mapper.AddScan(input);
+  mapper.Finish();
+  EXPECT_EQ(mapper.stats().scans_processed, 20u);
+  EXPECT_EQ(mapper.stats().scans_skipped.at("no_motion"), 20u);
+  const auto trajectory = mapper.Trajectory();
+  ASSERT_EQ(trajectory.size(), 40u);
+  for (std::size_t i = 0; i + 1 < trajectory.size(); i += 2) {
+    EXPECT_LT((trajectory[i].pose.translation() - trajectory[i + 1].pose.translation()).norm(),
+              1e-9);
+  }
+}
+
+TEST(Mapper, ATrackerFailureResetsTheLocalMapAndStartsANode) {
+  Drive drive = MakeDrive(40, 0.12, 6);
+  // Scan 25 sees a different world (a kidnap of the laser's view): registration must reject it.
+  SyntheticLaser laser;
+  laser.beams = 270;
+  laser.fov_rad = 1.5 * M_PI;
+  drive.inputs[25].scan =
+      CastScan(test_support::IrregularRoom(), {}, Pose2(0.5, 0.3, 2.0), laser, 99);
+  drive.inputs[25].scan.stamp_s = 2.5;
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  ASSERT_GE(mapper.stats().counters.count("tracker_failures"), 1u);
+  EXPECT_GE(mapper.stats().counters.at("tracker_failures"), 1u);
+  bool failure_edge = false;
+  for (const OdometryEdge& edge : mapper.edges()) failure_edge |= edge.after_tracker_failure;
+  EXPECT_TRUE(failure_edge);
+  for (const auto& pose : mapper.Trajectory()) EXPECT_TRUE(pose.pose.IsFinite());
+}
+
+TEST(Mapper, BadScansAreSkippedWithAReasonAndKeepAPose) {
+  Drive drive = MakeDrive(10, 0.12, 7);
+  drive.inputs[3].scan.angle_increment_rad = -0.01;
+  drive.inputs[5].scan.ranges.resize(10);
+  for (float& r : drive.inputs[7].scan.ranges) r = std::numeric_limits<float>::quiet_NaN();
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  EXPECT_EQ(mapper.stats().scans_skipped.at("invalid_geometry"), 1u);
+  EXPECT_EQ(mapper.stats().scans_skipped.at("too_few_beams"), 1u);
+  const auto trajectory = mapper.Trajectory();
+  ASSERT_EQ(trajectory.size(), 10u);
+  for (const auto& pose : trajectory) EXPECT_TRUE(pose.pose.IsFinite());
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
