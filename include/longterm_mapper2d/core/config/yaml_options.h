@@ -142,6 +142,7 @@ template <class Options>
 std::string OptionsToYaml(const Options& options) {
   Options copy = options;
   YAML::Emitter out;
+  out.SetDoublePrecision(10);  // 0.1 prints as 0.1, not 0.10000000000000001
   out << YAML::BeginMap;
   YamlOptionsWriter writer(out);
   copy.Visit(writer);

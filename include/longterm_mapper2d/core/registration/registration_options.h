@@ -29,7 +29,7 @@ struct RegistrationOptions {
   // Validation (ranges compared bin by bin from the estimated viewpoint).
   double inlier_distance_m = 0.3;
   double min_inlier_ratio = 0.6;
-  double min_correspondence_ratio = 0.5;
+  double min_correspondence_ratio = 0.3;
   int min_correspondences = 20;
 
   template <class V>
