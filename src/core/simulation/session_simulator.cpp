@@ -6,6 +6,12 @@
 #include <random>
 
 namespace longterm_mapper2d {
+namespace {
+
+// People keep at least this far from the robot's centre (plus their own radius).
+constexpr double kRobotRadiusM = 0.45;
+
+}  // namespace
 
 void SimulationOptions::Validate(OptionErrors& e) const {
   e.Require(duration_s > 0.0, "duration_s", "must be positive");
@@ -68,11 +74,13 @@ std::vector<SimulatedStep> SessionSimulator::Run() {
   Pose2 truth(route[0], std::atan2(heading0.y(), heading0.x()));
   Pose2 odom = truth;
   std::size_t target = 1;
+  std::vector<double> person_delay_s(world_.people.size(), 0.0);
   std::vector<SimulatedStep> steps;
   steps.reserve(static_cast<std::size_t>(options_.duration_s * options_.rate_hz) + 1);
 
   for (double t = 0.0; t < options_.duration_s; t += dt) {
     // Truth motion: turn towards the next waypoint, then drive to it.
+    if ((route[target] - truth.translation()).norm() < 1e-3) target = (target + 1) % route.size();
     const Eigen::Vector2d to_target = route[target] - truth.translation();
     const double bearing = NormalizeAngle(std::atan2(to_target.y(), to_target.x()) - truth.theta());
     double forward = 0.0, turn = 0.0;
@@ -82,9 +90,7 @@ std::vector<SimulatedStep> SessionSimulator::Run() {
     } else {
       turn = bearing;
       forward = std::min(world_.robot_speed_mps * dt, to_target.norm());
-      if (to_target.norm() < 1e-3) target = (target + 1) % route.size();
     }
-    if (to_target.norm() < 1e-3) target = (target + 1) % route.size();
     const Pose2 step(forward, 0.0, turn);
     truth = truth * step;
 
@@ -97,10 +103,16 @@ std::vector<SimulatedStep> SessionSimulator::Run() {
         turn + rotation_sigma * unit(odometry_rng) + options_.drift_rad_per_m * d;
     odom = odom * Pose2(noisy_forward, 0.0, noisy_turn);
 
-    // Laser at the true pose, people where they are now.
+    // Laser at the true pose, people where they are now. A person about to walk into the robot
+    // waits (people step aside for a robot; none walks through it).
     std::vector<Eigen::Vector3d> circles;
-    for (const auto& person : world_.people) {
-      const Eigen::Vector2d p = person.PositionAt(t);
+    for (std::size_t k = 0; k < world_.people.size(); ++k) {
+      const auto& person = world_.people[k];
+      Eigen::Vector2d p = person.PositionAt(t - person_delay_s[k]);
+      if ((p - truth.translation()).norm() < person.radius_m + kRobotRadiusM) {
+        person_delay_s[k] += dt;
+        p = person.PositionAt(t - person_delay_s[k]);
+      }
       circles.emplace_back(p.x(), p.y(), person.radius_m);
     }
     const Pose2 map_T_laser = truth * base_T_laser;

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Benchmark: offline_mapper on the Freiburg bags in ../shared/data. Prints per dataset the scans,
+# processed scans, nodes, wall time, real-time factor, time per stage and peak RSS, and the
+# relation error; writes the same to output/bench.json. Figures are measured, never asserted.
+# Usage: scripts/bench.sh [--no-build] [DATASET ...]   (default: intel aces fr079)
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+export PATH="/usr/bin:$PATH"
+DATA="$(cd "$ROOT/.." && pwd)/shared/data"
+BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+OUT="$ROOT/output/bench"
+
+BUILD=1
+DATASETS=()
+for arg in "$@"; do
+  case "$arg" in
+    --no-build) BUILD=0 ;;
+    *) DATASETS+=("$arg") ;;
+  esac
+done
+[ ${#DATASETS[@]} -gt 0 ] || DATASETS=(intel aces fr079)
+if [ ! -d "$DATA" ]; then echo "bench.sh: no data folder at $DATA" >&2; exit 1; fi
+if [ $BUILD -eq 1 ]; then
+  bash "$ROOT/scripts/install_deps.sh" > /dev/null
+  bash "$ROOT/scripts/build.sh" > "$ROOT/output_build.log" 2>&1 || { tail -30 "$ROOT/output_build.log"; exit 1; }
+fi
+mkdir -p "$OUT"
+
+for d in "${DATASETS[@]}"; do
+  "$BIN/offline_mapper" --bag "$DATA/$d/$d.bag" --trajectory "$OUT/$d.trajectory.txt" \
+    --stats "$OUT/$d.stats.json" 2> "$OUT/$d.log"
+  "$BIN/evaluate_relations" --json --trajectory "$OUT/$d.trajectory.txt" \
+    --relations "$DATA/$d/$d.relations" > "$OUT/$d.relations.json"
+done
+
+/usr/bin/python3 - "$OUT" "${DATASETS[@]}" <<'PY'
+import json, os, sys
+out, names = sys.argv[1], sys.argv[2:]
+rows = []
+for d in names:
+    s = json.load(open(os.path.join(out, d + ".stats.json")))
+    r = json.load(open(os.path.join(out, d + ".relations.json")))
+    st = s["stage_time_s"]
+    rows.append({
+        "dataset": d, "scans": s["scans_read"], "processed": s["scans_processed"],
+        "nodes": s["counters"].get("nodes", 0), "tracker_failures": s["counters"].get("tracker_failures", 0),
+        "data_s": s["data_duration_s"], "wall_s": s["wall_time_s"], "rtf": s["real_time_factor"],
+        "reading_s": st.get("reading_odometry", 0.0) + st.get("reading", 0.0),
+        "conversion_s": st.get("conversion", 0.0), "normals_s": st.get("normals", 0.0),
+        "registration_s": st.get("registration", 0.0), "merging_s": st.get("merging", 0.0),
+        "peak_rss_mb": s["peak_rss_mb"], "trans_err_m": r["trans_abs_mean_m"],
+        "rot_err_deg": r["rot_abs_mean_deg"]})
+hdr = ("| dataset | scans | processed | nodes | data [s] | wall [s] | real-time factor | reading [s] | "
+       "conversion [s] | normals [s] | registration [s] | merging [s] | peak RSS [MB] | rel. error [m] / [deg] |")
+print(hdr)
+print("|" + "---|" * (hdr.count("|") - 1))
+for x in rows:
+    print("| %s | %d | %d | %d | %.0f | %.2f | %.0fx | %.2f | %.3f | %.3f | %.3f | %.3f | %.0f | %.3f / %.2f |" % (
+        x["dataset"], x["scans"], x["processed"], x["nodes"], x["data_s"], x["wall_s"], x["rtf"],
+        x["reading_s"], x["conversion_s"], x["normals_s"], x["registration_s"], x["merging_s"],
+        x["peak_rss_mb"], x["trans_err_m"], x["rot_err_deg"]))
+json.dump(rows, open(os.path.join(os.path.dirname(out), "bench.json"), "w"), indent=2)
+print("\nbench.sh: wrote %s" % os.path.join(os.path.dirname(out), "bench.json"))
+PY
