@@ -1,11 +1,17 @@
 #include "longterm_mapper2d/core/mapping/mapper.h"
 
 #include <Eigen/Dense>
+#include <Eigen/LU>
 #include <cmath>
+
+#include "longterm_mapper2d/core/graph/optimizer.h"
 
 namespace longterm_mapper2d {
 
-Mapper::Mapper(const MapperOptions& options) : options_(options), tracker_(options) {}
+Mapper::Mapper(const MapperOptions& options)
+    : options_(options),
+      tracker_(options),
+      loop_closer_(options.loop_closing, options.registration) {}
 
 Pose2 Mapper::MapTTracker() const {
   if (!last_node_) return Pose2();
@@ -130,14 +136,62 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   stretch_after_failure_ = false;
   tracker_T_node_[node.id] = tracker_T_base;
   last_node_ = node.id;
-  nodes_.emplace(node.id, std::move(node));
+  GraphNode graph_node;
+  graph_node.id = node.id;
+  graph_node.pose = node.map_T_node;
+  graph_node.session_id = node.session_id;
+  graph_node.stamp_s = node.stamp_s;
+  graph_.AddNode(graph_node);
+  if (!edges_.empty() && edges_.back().to == node.id) {
+    GraphEdge edge;
+    edge.from = edges_.back().from;
+    edge.to = node.id;
+    edge.measurement = edges_.back().from_T_to;
+    edge.information = edges_.back().information;
+    edge.kind = EdgeKind::kOdometry;
+    edge.session_id = node.session_id;
+    edge.stamp_s = node.stamp_s;
+    graph_.AddEdge(edge);
+  }
+  const NodeId id = node.id;
+  nodes_.emplace(id, std::move(node));
   stats_.counters["nodes"] = nodes_.size();
+  CloseLoops(id, false);
+}
+
+void Mapper::CloseLoops(NodeId node, bool force) {
+  if (!options_.loop_closing.enabled) return;
+  ScopedStageTimer timer(stats_.stage_times, "loop_closing");
+  loop_closer_.SearchFrom(
+      graph_, node, [this](GraphNodeId id) -> const Cloud& { return nodes_.at(id).cloud; },
+      stats_);
+  const std::vector<GraphEdge> closures = loop_closer_.Vote(graph_, force, stats_);
+  for (const GraphEdge& edge : closures) graph_.AddEdge(edge);
+  if (!closures.empty()) OptimizeGraph(options_.loop_closing.optimizer_iterations);
+}
+
+void Mapper::OptimizeGraph(int max_iterations) {
+  ScopedStageTimer timer(stats_.stage_times, "optimization");
+  OptimizerOptions options = options_.optimizer;
+  options.max_iterations = max_iterations;
+  const OptimizationSummary summary = Optimize(graph_, options);
+  ++stats_.counters["optimizations"];
+  if (!summary.usable) {
+    ++stats_.counters["optimizations_unusable"];
+    return;
+  }
+  for (auto& [id, node] : nodes_) node.map_T_node = graph_.node(id).pose;
 }
 
 void Mapper::Finish() {
   if (!has_last_processed_) return;
   if (!pending_waypoints_.empty()) {
     CreateNode(trajectory_.back().stamp_s, last_tracker_T_base_, stretch_after_failure_);
+  }
+  // A last vote on whatever closures are still pending, then a full optimisation.
+  if (options_.loop_closing.enabled && last_node_) {
+    CloseLoops(*last_node_, true);
+    OptimizeGraph(options_.optimizer.max_iterations);
   }
   // Scans after the last node (skipped ones) are attached to it.
   const Pose2 node_T_tracker = tracker_T_node_.at(*last_node_).inverse();

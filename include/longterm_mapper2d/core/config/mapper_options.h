@@ -6,6 +6,8 @@
 #include "longterm_mapper2d/core/cloud/cloud_merger.h"
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "longterm_mapper2d/core/config/input_options.h"
+#include "longterm_mapper2d/core/graph/optimizer.h"
+#include "longterm_mapper2d/core/loop_closing/loop_closing_options.h"
 #include "longterm_mapper2d/core/mapping/tracker_options.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
 #include "longterm_mapper2d/core/config/option_errors.h"
@@ -21,6 +23,8 @@ struct MapperOptions {
   RegistrationOptions registration;
   MergerOptions merger;
   TrackerOptions tracker;
+  LoopClosingOptions loop_closing;
+  OptimizerOptions optimizer;
   GridOptions grid;
 
   template <class V>
@@ -30,6 +34,8 @@ struct MapperOptions {
     v.Section("registration", registration);
     v.Section("merger", merger);
     v.Section("tracker", tracker);
+    v.Section("loop_closing", loop_closing);
+    v.Section("optimizer", optimizer);
     v.Section("grid", grid);
   }
   void Validate(OptionErrors& e) const {
@@ -38,6 +44,8 @@ struct MapperOptions {
     e.Section("registration", registration);
     e.Section("merger", merger);
     e.Section("tracker", tracker);
+    e.Section("loop_closing", loop_closing);
+    e.Section("optimizer", optimizer);
     e.Section("grid", grid);
   }
 };

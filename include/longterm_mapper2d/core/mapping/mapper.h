@@ -6,6 +6,8 @@
 
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/geometry/pose2.h"
+#include "longterm_mapper2d/core/graph/pose_graph.h"
+#include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 #include "longterm_mapper2d/core/mapping/local_map.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
 #include "longterm_mapper2d/core/mapping/tracker.h"
@@ -44,6 +46,8 @@ class Mapper {
   // Nodes by id, and the odometry edges between consecutive nodes.
   const std::map<NodeId, LocalMapNode>& nodes() const { return nodes_; }
   const std::vector<OdometryEdge>& edges() const { return edges_; }
+  // The pose graph over the nodes: odometry edges and accepted loop closures.
+  const PoseGraph& graph() const { return graph_; }
   // The tracker's current local map, in the map frame.
   Cloud LocalMapInMap() const;
 
@@ -65,6 +69,9 @@ class Mapper {
   void Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base);
   void MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_base);
   void CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure);
+  // Loop closing for a new node, then optimisation if closures were accepted.
+  void CloseLoops(NodeId node, bool force);
+  void OptimizeGraph(int max_iterations);
   // map_T_tracker for the open stretch (the last node's correction applies to it).
   Pose2 MapTTracker() const;
 
@@ -85,6 +92,8 @@ class Mapper {
   std::map<NodeId, LocalMapNode> nodes_;
   std::map<NodeId, Pose2> tracker_T_node_;
   std::vector<OdometryEdge> edges_;
+  PoseGraph graph_;
+  LoopCloser loop_closer_;
   NodeId next_node_id_ = 0;
   std::optional<NodeId> last_node_;
 

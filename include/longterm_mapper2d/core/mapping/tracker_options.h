@@ -28,7 +28,7 @@ struct TrackerOptions {
   double odometry_sigma_theta_per_m = 0.05;
   // Registration covariances (inverse Hessians) are optimistic; they are scaled by this before
   // they accumulate into odometry edges.
-  double registration_covariance_scale = 10.0;
+  double registration_covariance_scale = 100.0;
 
   template <class V>
   void Visit(V& v) {

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <functional>
+#include <map>
+#include <set>
+#include <utility>
+#include <vector>
+
+#include "longterm_mapper2d/core/cloud/rich_point.h"
+#include "longterm_mapper2d/core/graph/pose_graph.h"
+#include "longterm_mapper2d/core/loop_closing/loop_closing_options.h"
+#include "longterm_mapper2d/core/mapping/mapper_stats.h"
+#include "longterm_mapper2d/core/registration/nicp.h"
+
+namespace longterm_mapper2d {
+
+// A loop-closure hypothesis from aligning two local maps: the pose of `old` in the frame of
+// `local` (the node that found it, which stays in the buffer while votes are pending).
+struct ClosureCandidate {
+  GraphNodeId local = 0;
+  GraphNodeId old = 0;
+  Pose2 local_T_old;
+};
+
+// Finds loop closures for new nodes (candidates within a Mahalanobis gate, grouped into
+// connected sets, the nearest of each set aligned map-to-map and validated) and accepts them by
+// the hypothesise-and-verify vote over a rigid sub-map (ALGORITHMS.md §7-8).
+class LoopCloser {
+ public:
+  using CloudOf = std::function<const Cloud&(GraphNodeId)>;
+  LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration);
+
+  // Looks for closures of `node` and buffers the validated ones.
+  void SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
+                  MapperStats& stats);
+  // Runs the vote when due (or now, if `force`); returns the accepted closures as edges, never
+  // one already accepted for the same pair. Ages the buffer.
+  std::vector<GraphEdge> Vote(const PoseGraph& graph, bool force, MapperStats& stats);
+
+  // Aligns two local maps (exposed for tests): the pose of `current` in the frame of
+  // `reference`, if one of the guesses validates.
+  std::optional<Pose2> AlignLocalMaps(const Cloud& reference, const Cloud& current,
+                                      const std::vector<Pose2>& guesses);
+
+  const std::vector<ClosureCandidate>& buffer() const { return buffer_; }
+
+ private:
+  std::vector<GraphNodeId> Candidates(const PoseGraph& graph, GraphNodeId node,
+                                      MapperStats& stats) const;
+  Eigen::Matrix3d ClosureInformation() const;
+
+  LoopClosingOptions options_;
+  RegistrationOptions coarse_;
+  RegistrationOptions fine_;
+  std::vector<ClosureCandidate> buffer_;
+  std::map<GraphNodeId, int> ages_;
+  std::set<std::pair<GraphNodeId, GraphNodeId>> accepted_pairs_;
+};
+
+}  // namespace longterm_mapper2d

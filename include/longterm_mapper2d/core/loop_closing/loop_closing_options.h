@@ -1,0 +1,83 @@
+#pragma once
+
+#include "longterm_mapper2d/core/config/option_errors.h"
+
+namespace longterm_mapper2d {
+
+// Loop-closure search (ALGORITHMS.md §7) and the voting scheme (§8).
+struct LoopClosingOptions {
+  bool enabled = true;
+  // Candidates: nodes farther than this along the graph from the new node...
+  double min_graph_distance_m = 5.0;
+  // ... and within this Euclidean distance of it ...
+  double max_distance_m = 10.0;
+  // ... whose marginal position uncertainty allows it (chi2, 2 dof, 95 %), once each axis of the
+  // offset is shrunk by the perception range (the local maps overlap within it).
+  double mahalanobis_gate = 5.99;
+  double perception_range_m = 1.5;
+  // Map-to-map alignment: coarse then fine correspondence distance, and validation from the new
+  // node on a full-circle projector.
+  double coarse_correspondence_m = 1.0;
+  double fine_correspondence_m = 0.25;
+  int validation_bins = 720;
+  double validation_inlier_m = 0.05;
+  double min_inlier_ratio = 0.5;
+  int min_correspondences = 50;
+  // Information of a closure edge (x, y and theta).
+  double closure_information_xy = 1000.0;
+  double closure_information_theta = 300.0;
+  // Voting: a candidate agrees with a hypothesis if chi2 < vote_inlier_chi2; a hypothesis with at
+  // least vote_min_inliers agreeing candidates is accepted. Candidates wait up to vote_window
+  // nodes; those farther than vote_outlier_chi2 from the winning hypothesis are dropped.
+  double vote_inlier_chi2 = 3.0;
+  int vote_min_inliers = 2;
+  int vote_window = 10;
+  double vote_outlier_chi2 = 500.0;
+  // Graph optimisation after each node and after closures.
+  int optimizer_iterations = 10;
+
+  template <class V>
+  void Visit(V& v) {
+    v("enabled", enabled);
+    v("min_graph_distance_m", min_graph_distance_m);
+    v("max_distance_m", max_distance_m);
+    v("mahalanobis_gate", mahalanobis_gate);
+    v("perception_range_m", perception_range_m);
+    v("coarse_correspondence_m", coarse_correspondence_m);
+    v("fine_correspondence_m", fine_correspondence_m);
+    v("validation_bins", validation_bins);
+    v("validation_inlier_m", validation_inlier_m);
+    v("min_inlier_ratio", min_inlier_ratio);
+    v("min_correspondences", min_correspondences);
+    v("closure_information_xy", closure_information_xy);
+    v("closure_information_theta", closure_information_theta);
+    v("vote_inlier_chi2", vote_inlier_chi2);
+    v("vote_min_inliers", vote_min_inliers);
+    v("vote_window", vote_window);
+    v("vote_outlier_chi2", vote_outlier_chi2);
+    v("optimizer_iterations", optimizer_iterations);
+  }
+  void Validate(OptionErrors& e) const {
+    e.Require(min_graph_distance_m >= 0.0, "min_graph_distance_m", "must be non-negative");
+    e.Require(max_distance_m > 0.0, "max_distance_m", "must be positive");
+    e.Require(mahalanobis_gate > 0.0, "mahalanobis_gate", "must be positive");
+    e.Require(perception_range_m >= 0.0, "perception_range_m", "must be non-negative");
+    e.Require(coarse_correspondence_m >= fine_correspondence_m && fine_correspondence_m > 0.0,
+              "fine_correspondence_m", "must be positive and at most coarse_correspondence_m");
+    e.Require(validation_bins >= 36, "validation_bins", "must be at least 36");
+    e.Require(validation_inlier_m > 0.0, "validation_inlier_m", "must be positive");
+    e.Require(min_inlier_ratio > 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio",
+              "must be in (0, 1]");
+    e.Require(min_correspondences >= 3, "min_correspondences", "must be at least 3");
+    e.Require(closure_information_xy > 0.0 && closure_information_theta > 0.0,
+              "closure_information_xy", "closure information must be positive");
+    e.Require(vote_inlier_chi2 > 0.0, "vote_inlier_chi2", "must be positive");
+    e.Require(vote_min_inliers >= 1, "vote_min_inliers", "must be at least 1");
+    e.Require(vote_window >= 1, "vote_window", "must be at least 1");
+    e.Require(vote_outlier_chi2 > vote_inlier_chi2, "vote_outlier_chi2",
+              "must exceed vote_inlier_chi2");
+    e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
+  }
+};
+
+}  // namespace longterm_mapper2d

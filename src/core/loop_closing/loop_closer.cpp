@@ -1,0 +1,260 @@
+#include "longterm_mapper2d/core/loop_closing/loop_closer.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <queue>
+
+#include "longterm_mapper2d/core/graph/optimizer.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+// Shortest path lengths (Euclidean edge lengths between node positions) from `source`, up to
+// `limit`.
+std::map<GraphNodeId, double> GraphDistances(const PoseGraph& graph, GraphNodeId source,
+                                             double limit) {
+  std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
+  for (const GraphEdge& e : graph.edges()) {
+    adjacency[e.from].push_back(e.to);
+    adjacency[e.to].push_back(e.from);
+  }
+  std::map<GraphNodeId, double> distance{{source, 0.0}};
+  using Entry = std::pair<double, GraphNodeId>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  queue.emplace(0.0, source);
+  while (!queue.empty()) {
+    const auto [d, id] = queue.top();
+    queue.pop();
+    if (d > distance[id]) continue;
+    for (GraphNodeId next : adjacency[id]) {
+      const double nd =
+          d + (graph.node(next).pose.translation() - graph.node(id).pose.translation()).norm();
+      if (nd > limit) continue;
+      auto it = distance.find(next);
+      if (it == distance.end() || nd < it->second) {
+        distance[next] = nd;
+        queue.emplace(nd, next);
+      }
+    }
+  }
+  return distance;
+}
+
+double Shrink(double value, double by) {
+  return value > by ? value - by : (value < -by ? value + by : 0.0);
+}
+
+}  // namespace
+
+LoopCloser::LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration)
+    : options_(options), coarse_(registration), fine_(registration) {
+  coarse_.max_correspondence_distance_m = options.coarse_correspondence_m;
+  coarse_.max_normal_angle_rad = std::max(registration.max_normal_angle_rad, 0.8);
+  coarse_.damping = 0.0;
+  fine_.max_correspondence_distance_m = options.fine_correspondence_m;
+  fine_.damping = 0.0;
+  fine_.inlier_distance_m = options.validation_inlier_m;
+  fine_.min_inlier_ratio = options.min_inlier_ratio;
+  fine_.min_correspondences = options.min_correspondences;
+  fine_.min_correspondence_ratio = 0.0;
+}
+
+Eigen::Matrix3d LoopCloser::ClosureInformation() const {
+  return Eigen::Vector3d(options_.closure_information_xy, options_.closure_information_xy,
+                         options_.closure_information_theta)
+      .asDiagonal();
+}
+
+std::vector<GraphNodeId> LoopCloser::Candidates(const PoseGraph& graph, GraphNodeId node,
+                                                MapperStats& stats) const {
+  const Pose2& pose = graph.node(node).pose;
+  const auto near_in_graph = GraphDistances(graph, node, options_.min_graph_distance_m);
+  std::vector<GraphNodeId> nearby;
+  for (const auto& [id, other] : graph.nodes()) {
+    if (id == node || near_in_graph.count(id)) continue;
+    if ((other.pose.translation() - pose.translation()).norm() <= options_.max_distance_m) {
+      nearby.push_back(id);
+    }
+  }
+  if (nearby.empty()) return nearby;
+  // Mahalanobis gate on the marginal of each candidate relative to the new node.
+  ScopedStageTimer timer(stats.stage_times, "loop_closing_marginals");
+  const auto marginals = ComputeMarginals(graph, node, nearby);
+  if (!marginals.ok()) {
+    ++stats.counters["loop_closing_marginals_failed"];
+    return {};
+  }
+  std::vector<GraphNodeId> gated;
+  for (GraphNodeId id : nearby) {
+    const Pose2& candidate = graph.node(id).pose;
+    // The new node seen from the candidate, shrunk by the perception range on each axis.
+    const Eigen::Vector2d h = candidate.Between(pose).translation();
+    const Eigen::Vector2d cropped(Shrink(h.x(), options_.perception_range_m),
+                                  Shrink(h.y(), options_.perception_range_m));
+    // The marginal is in global increments: rotate it into the candidate's frame.
+    const Eigen::Matrix2d R = candidate.rotation();
+    const Eigen::Matrix2d P = R.transpose() * marginals->at(id).topLeftCorner<2, 2>() * R +
+                              1e-6 * Eigen::Matrix2d::Identity();
+    if (cropped.dot(P.inverse() * cropped) <= options_.mahalanobis_gate) gated.push_back(id);
+  }
+  return gated;
+}
+
+std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cloud& current,
+                                                const std::vector<Pose2>& guesses) {
+  const ProjectorGeometry geometry =
+      ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
+  Nicp coarse(coarse_), fine(fine_);
+  for (const Pose2& guess : guesses) {
+    const RegistrationResult first =
+        coarse.AlignNearestNeighbour(reference, current, guess, geometry, Pose2(), std::nullopt);
+    if (!first.solved) continue;
+    const RegistrationResult second = fine.AlignNearestNeighbour(
+        reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
+    if (second.solved && second.validation.accepted && second.reference_T_current.IsFinite()) {
+      return second.reference_T_current;
+    }
+  }
+  return std::nullopt;
+}
+
+void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
+                            MapperStats& stats) {
+  if (!options_.enabled || !graph.HasNode(node)) return;
+  const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats);
+  if (candidates.empty()) return;
+  ScopedStageTimer timer(stats.stage_times, "loop_closing_alignment");
+  // Connected sets of candidates (joined by graph edges among candidates); in each, the nearest.
+  std::set<GraphNodeId> remaining(candidates.begin(), candidates.end());
+  std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
+  for (const GraphEdge& e : graph.edges()) {
+    if (remaining.count(e.from) && remaining.count(e.to)) {
+      adjacency[e.from].push_back(e.to);
+      adjacency[e.to].push_back(e.from);
+    }
+  }
+  const Pose2& pose = graph.node(node).pose;
+  while (!remaining.empty()) {
+    std::deque<GraphNodeId> queue{*remaining.begin()};
+    remaining.erase(remaining.begin());
+    GraphNodeId nearest = queue.front();
+    double nearest_distance = std::numeric_limits<double>::infinity();
+    while (!queue.empty()) {
+      const GraphNodeId id = queue.front();
+      queue.pop_front();
+      const double d = (graph.node(id).pose.translation() - pose.translation()).norm();
+      if (d < nearest_distance) {
+        nearest_distance = d;
+        nearest = id;
+      }
+      for (GraphNodeId next : adjacency[id]) {
+        if (remaining.erase(next)) queue.push_back(next);
+      }
+    }
+    if (accepted_pairs_.count({std::min(node, nearest), std::max(node, nearest)})) continue;
+    ++stats.counters["loop_closure_alignments"];
+    const Pose2 guess = pose.Between(graph.node(nearest).pose);
+    const auto aligned = AlignLocalMaps(cloud_of(node), cloud_of(nearest),
+                                        {guess, Pose2(0.0, 0.0, guess.theta())});
+    if (!aligned) continue;
+    ++stats.counters["loop_closure_candidates"];
+    buffer_.push_back({node, nearest, *aligned});
+    ages_.emplace(node, 0);
+  }
+}
+
+std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, MapperStats& stats) {
+  std::vector<GraphEdge> accepted;
+  // Drop candidates whose nodes are gone.
+  buffer_.erase(std::remove_if(buffer_.begin(), buffer_.end(),
+                               [&](const ClosureCandidate& c) {
+                                 return !graph.HasNode(c.local) || !graph.HasNode(c.old);
+                               }),
+                buffer_.end());
+  bool due = force;
+  for (const auto& [id, age] : ages_) due |= age >= options_.vote_window - 1;
+  if (due && !buffer_.empty()) {
+    ScopedStageTimer timer(stats.stage_times, "loop_closing_vote");
+    const Eigen::Matrix3d information = ClosureInformation();
+    // The local sub-map L moves rigidly so that hypothesis h holds exactly; every candidate is
+    // scored at the moved poses.
+    auto moved = [&](GraphNodeId id, const Pose2& motion) {
+      const Pose2& pose = graph.node(id).pose;
+      return ages_.count(id) ? motion * pose : pose;
+    };
+    int best = -1, best_inliers = 0;
+    double best_chi2 = 0.0;
+    std::vector<double> best_scores;
+    for (std::size_t h = 0; h < buffer_.size(); ++h) {
+      const ClosureCandidate& hyp = buffer_[h];
+      const Pose2 local_target = graph.node(hyp.old).pose * hyp.local_T_old.inverse();
+      const Pose2 motion = local_target * graph.node(hyp.local).pose.inverse();
+      int inliers = 0;
+      double chi2_sum = 0.0;
+      std::vector<double> scores;
+      for (const ClosureCandidate& c : buffer_) {
+        const Eigen::Vector3d e =
+            EdgeError(moved(c.local, motion), moved(c.old, motion), c.local_T_old);
+        const double chi2 = e.dot(information * e);
+        scores.push_back(chi2);
+        if (chi2 < options_.vote_inlier_chi2) {
+          ++inliers;
+          chi2_sum += chi2;
+        }
+      }
+      if (inliers > best_inliers || (inliers == best_inliers && chi2_sum < best_chi2)) {
+        best = static_cast<int>(h);
+        best_inliers = inliers;
+        best_chi2 = chi2_sum;
+        best_scores = scores;
+      }
+    }
+    if (best >= 0 && best_inliers >= options_.vote_min_inliers) {
+      std::vector<ClosureCandidate> kept;
+      for (std::size_t i = 0; i < buffer_.size(); ++i) {
+        const ClosureCandidate& c = buffer_[i];
+        if (best_scores[i] < options_.vote_inlier_chi2) {
+          const auto pair = std::make_pair(std::min(c.local, c.old), std::max(c.local, c.old));
+          if (accepted_pairs_.insert(pair).second) {
+            GraphEdge edge;
+            edge.from = c.local;
+            edge.to = c.old;
+            edge.measurement = c.local_T_old;
+            edge.information = information;
+            edge.kind = EdgeKind::kLoopClosure;
+            edge.stamp_s = graph.node(c.local).stamp_s;
+            edge.session_id = graph.node(c.local).session_id;
+            accepted.push_back(edge);
+          }
+        } else if (best_scores[i] < options_.vote_outlier_chi2) {
+          kept.push_back(c);  // undecided: waits for more votes
+        } else {
+          ++stats.counters["loop_closures_rejected"];
+        }
+      }
+      buffer_ = kept;
+    }
+  }
+  // Age the buffer; expired nodes take their candidates with them.
+  for (auto& [id, age] : ages_) ++age;
+  for (auto it = ages_.begin(); it != ages_.end();) {
+    if (it->second >= options_.vote_window || force) {
+      const GraphNodeId id = it->first;
+      const auto before = buffer_.size();
+      buffer_.erase(std::remove_if(buffer_.begin(), buffer_.end(),
+                                   [id](const ClosureCandidate& c) { return c.local == id; }),
+                    buffer_.end());
+      stats.counters["loop_closures_expired"] += before - buffer_.size();
+      it = ages_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  stats.counters["loop_closures_accepted"] += accepted.size();
+  return accepted;
+}
+
+}  // namespace longterm_mapper2d
