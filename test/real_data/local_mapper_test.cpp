@@ -49,5 +49,35 @@ TEST_P(RealDataLocalMapper, ScanMatchingCutsTheOdometryError) {
 INSTANTIATE_TEST_SUITE_P(Freiburg, RealDataLocalMapper,
                          ::testing::Values("intel", "aces", "fr079"));
 
+// Full SLAM (the default configuration, loop closing on). These bounds guard what the mapper
+// reaches today (README, "Accuracy"); the goal of beating the best published results is below
+// them and not met yet.
+struct SlamCase {
+  const char* name;
+  double max_translation_m;
+};
+
+class RealDataSlam : public ::testing::TestWithParam<SlamCase> {};
+
+TEST_P(RealDataSlam, LoopClosingRemovesTheDrift) {
+  LTM_REQUIRE_REAL_DATA(data);
+  const std::string dir = TempDir();
+  const SlamCase c = GetParam();
+  const Errors local = MapAndEvaluate(data, c.name, "no_loop_closing", dir);
+  const Errors slam = MapAndEvaluate(data, c.name, "", dir);
+  std::printf("%s: local mapper %.3f m %.2f deg, full SLAM %.3f m %.2f deg\n", c.name,
+              local.translation_m, local.rotation_deg, slam.translation_m, slam.rotation_deg);
+  EXPECT_LT(slam.translation_m, c.max_translation_m);
+  EXPECT_LT(slam.translation_m, 0.5 * local.translation_m);
+  EXPECT_LT(slam.rotation_deg, 2.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Freiburg, RealDataSlam,
+                         ::testing::Values(SlamCase{"intel", 0.2}, SlamCase{"aces", 0.08},
+                                           SlamCase{"fr079", 0.1}),
+                         [](const ::testing::TestParamInfo<SlamCase>& info) {
+                           return std::string(info.param.name);
+                         });
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -1,5 +1,6 @@
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -108,15 +109,25 @@ std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cl
   const ProjectorGeometry geometry =
       ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
   Nicp coarse(coarse_), fine(fine_);
+  degenerate_ = false;
   for (const Pose2& guess : guesses) {
     const RegistrationResult first =
         coarse.AlignNearestNeighbour(reference, current, guess, geometry, Pose2(), std::nullopt);
     if (!first.solved) continue;
     const RegistrationResult second = fine.AlignNearestNeighbour(
         reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
-    if (second.solved && second.validation.accepted && second.reference_T_current.IsFinite()) {
-      return second.reference_T_current;
+    if (!second.solved || !second.validation.accepted || !second.reference_T_current.IsFinite()) {
+      continue;
     }
+    // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
+        second.information.topLeftCorner<2, 2>());
+    const Eigen::Vector2d lambda = eigen.eigenvalues();
+    if (!(lambda.x() > options_.min_information_ratio * lambda.y())) {
+      degenerate_ = true;
+      continue;
+    }
+    return second.reference_T_current;
   }
   return std::nullopt;
 }
@@ -159,11 +170,18 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     const Pose2 guess = pose.Between(graph.node(nearest).pose);
     const auto aligned = AlignLocalMaps(cloud_of(node), cloud_of(nearest),
                                         {guess, Pose2(0.0, 0.0, guess.theta())});
-    if (!aligned) continue;
+    if (!aligned) {
+      if (degenerate_) ++stats.counters["loop_closure_alignments_degenerate"];
+      continue;
+    }
     ++stats.counters["loop_closure_candidates"];
-    buffer_.push_back({node, nearest, *aligned});
-    ages_.emplace(node, 0);
+    AddCandidate({node, nearest, *aligned});
   }
+}
+
+void LoopCloser::AddCandidate(const ClosureCandidate& candidate) {
+  buffer_.push_back(candidate);
+  ages_.emplace(candidate.local, 0);
 }
 
 std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, MapperStats& stats) {

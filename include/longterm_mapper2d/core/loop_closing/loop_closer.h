@@ -42,6 +42,8 @@ class LoopCloser {
   std::optional<Pose2> AlignLocalMaps(const Cloud& reference, const Cloud& current,
                                       const std::vector<Pose2>& guesses);
 
+  // Adds a validated candidate to the vote (SearchFrom does this for the ones it finds).
+  void AddCandidate(const ClosureCandidate& candidate);
   const std::vector<ClosureCandidate>& buffer() const { return buffer_; }
 
  private:
@@ -55,6 +57,7 @@ class LoopCloser {
   std::vector<ClosureCandidate> buffer_;
   std::map<GraphNodeId, int> ages_;
   std::set<std::pair<GraphNodeId, GraphNodeId>> accepted_pairs_;
+  bool degenerate_ = false;  // the last AlignLocalMaps refused a degenerate alignment
 };
 
 }  // namespace longterm_mapper2d

@@ -23,6 +23,9 @@ struct LoopClosingOptions {
   double validation_inlier_m = 0.05;
   double min_inlier_ratio = 0.5;
   int min_correspondences = 50;
+  // An alignment whose translation information is this much weaker along one axis than along the
+  // other is degenerate (a corridor, a single wall): it cannot close a loop.
+  double min_information_ratio = 1e-4;
   // Information of a closure edge (x, y and theta).
   double closure_information_xy = 1000.0;
   double closure_information_theta = 300.0;
@@ -49,6 +52,7 @@ struct LoopClosingOptions {
     v("validation_inlier_m", validation_inlier_m);
     v("min_inlier_ratio", min_inlier_ratio);
     v("min_correspondences", min_correspondences);
+    v("min_information_ratio", min_information_ratio);
     v("closure_information_xy", closure_information_xy);
     v("closure_information_theta", closure_information_theta);
     v("vote_inlier_chi2", vote_inlier_chi2);
@@ -69,6 +73,8 @@ struct LoopClosingOptions {
     e.Require(min_inlier_ratio > 0.0 && min_inlier_ratio <= 1.0, "min_inlier_ratio",
               "must be in (0, 1]");
     e.Require(min_correspondences >= 3, "min_correspondences", "must be at least 3");
+    e.Require(min_information_ratio >= 0.0 && min_information_ratio < 1.0, "min_information_ratio",
+              "must be in [0, 1)");
     e.Require(closure_information_xy > 0.0 && closure_information_theta > 0.0,
               "closure_information_xy", "closure information must be positive");
     e.Require(vote_inlier_chi2 > 0.0, "vote_inlier_chi2", "must be positive");

@@ -1,0 +1,98 @@
+#include "longterm_mapper2d/core/loop_closing/loop_closer.h"
+
+#include <gtest/gtest.h>
+
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
+#include "testing/synthetic_scans.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+using test_support::CastScan;
+using test_support::SyntheticLaser;
+
+Cloud CloudAt(const std::vector<Segment>& world, const Pose2& pose, double max_range_m) {
+  SyntheticLaser laser;
+  laser.max_range_m = max_range_m;
+  laser.range_noise_m = 0.005;
+  return CloudFromScan(CastScan(world, {}, pose, laser, 11), Pose2(), CloudOptions{});
+}
+
+TEST(LoopCloser, AlignsTwoLocalMapsOfOnePlaceFromADriftedGuess) {
+  const auto room = test_support::IrregularRoom();
+  const Pose2 a(0.0, 0.0, 0.0), b(1.2, 0.6, 0.5);
+  LoopCloser closer(LoopClosingOptions{}, RegistrationOptions{});
+  const Pose2 truth = a.Between(b);
+  const Pose2 drifted = truth * Pose2(0.4, -0.3, 0.12);
+  const auto aligned = closer.AlignLocalMaps(CloudAt(room, a, 20), CloudAt(room, b, 20), {drifted});
+  ASSERT_TRUE(aligned.has_value());
+  EXPECT_LT((aligned->translation() - truth.translation()).norm(), 0.02);
+  EXPECT_LT(std::abs(NormalizeAngle(aligned->theta() - truth.theta())), 0.01);
+}
+
+TEST(LoopCloser, ASymmetricCorridorGivesNoClosure) {
+  // Two places 4 m apart in a featureless corridor look the same: the alignment is degenerate
+  // along the corridor and must be refused, not turned into a false closure.
+  const auto corridor = test_support::Corridor();
+  LoopCloser closer(LoopClosingOptions{}, RegistrationOptions{});
+  const auto aligned = closer.AlignLocalMaps(CloudAt(corridor, Pose2(0, 0, 0), 8.0),
+                                             CloudAt(corridor, Pose2(4, 0, 0), 8.0), {Pose2()});
+  EXPECT_FALSE(aligned.has_value());
+}
+
+// Old nodes 0..5 along a line; the robot comes back (nodes 10..15) with a rigid drift.
+PoseGraph Revisit() {
+  PoseGraph graph;
+  for (int i = 0; i <= 5; ++i) {
+    GraphNode old_node;
+    old_node.id = i;
+    old_node.pose = Pose2(2.0 * i, 0.0, 0.0);
+    graph.AddNode(old_node);
+    GraphNode new_node;
+    new_node.id = 10 + i;
+    new_node.pose = Pose2(0.5, 0.3, 0.05) * old_node.pose;
+    graph.AddNode(new_node);
+  }
+  return graph;
+}
+
+TEST(LoopCloser, VotingAcceptsTheConsistentClosuresAndRejectsAWrongOne) {
+  PoseGraph graph = Revisit();
+  LoopClosingOptions options;
+  options.vote_min_inliers = 3;
+  LoopCloser closer(options, RegistrationOptions{});
+  MapperStats stats;
+  // True closures: new node 10+i is at old node i.
+  for (int i = 1; i <= 4; ++i) closer.AddCandidate({10 + i, i, Pose2()});
+  // A wrong one: node 15 matched to node 1 (a similar-looking place 8 m away).
+  closer.AddCandidate({15, 1, Pose2(0.1, 0.0, 0.0)});
+  const std::vector<GraphEdge> accepted = closer.Vote(graph, true, stats);
+  ASSERT_EQ(accepted.size(), 4u);
+  for (const GraphEdge& edge : accepted) {
+    EXPECT_EQ(edge.from, edge.to + 10);
+    EXPECT_EQ(edge.kind, EdgeKind::kLoopClosure);
+  }
+  EXPECT_EQ(stats.counters["loop_closures_rejected"], 1u);
+  // An accepted pair is never accepted twice.
+  for (int i = 1; i <= 4; ++i) closer.AddCandidate({10 + i, i, Pose2()});
+  EXPECT_TRUE(closer.Vote(graph, true, stats).empty());
+}
+
+TEST(LoopCloser, TooFewAgreeingCandidatesWaitAndExpire) {
+  PoseGraph graph = Revisit();
+  LoopClosingOptions options;
+  options.vote_min_inliers = 3;
+  options.vote_window = 2;
+  LoopCloser closer(options, RegistrationOptions{});
+  MapperStats stats;
+  closer.AddCandidate({11, 1, Pose2()});
+  closer.AddCandidate({12, 2, Pose2()});
+  EXPECT_TRUE(closer.Vote(graph, false, stats).empty());
+  EXPECT_EQ(closer.buffer().size(), 2u);
+  EXPECT_TRUE(closer.Vote(graph, false, stats).empty());
+  EXPECT_TRUE(closer.buffer().empty());
+  EXPECT_EQ(stats.counters["loop_closures_expired"], 2u);
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
