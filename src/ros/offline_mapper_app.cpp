@@ -3,6 +3,8 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -15,6 +17,7 @@
 #include "longterm_mapper2d/core/io/carmen_reader.h"
 #include "longterm_mapper2d/core/io/json_writer.h"
 #include "longterm_mapper2d/core/io/trajectory_io.h"
+#include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/map_outputs.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/ros/bag_scan_source.h"
@@ -41,6 +44,11 @@ Input:
 Configuration:
   --config FILE.yaml    mapper options (see config/mapping.yaml); unknown keys are errors
   --print-config        print the effective options as YAML and exit
+Sessions:
+  --load-map FILE.ltmap   start a new session on top of a saved map
+  --initial-pose X,Y,TH   the robot's pose in the loaded map at the first scan (default: the pose
+                          of the loaded map's first node, the docking-station case)
+  --save-map FILE.ltmap   save the session map at the end (atomic)
 Output:
   --trajectory FILE     `stamp x y theta` per input scan: base in the map frame, final estimate
   --stats FILE.json     scans read/processed/skipped, wall time, peak RSS, time per stage
@@ -55,6 +63,9 @@ struct Arguments {
   std::string trajectory;
   std::string stats;
   std::string output_dir;
+  std::string load_map;
+  std::string save_map;
+  std::optional<Pose2> initial_pose;
   bool print_config = false;
   BagReaderOptions bag;
 };
@@ -104,6 +115,17 @@ std::string Parse(int argc, char** argv, Arguments& args, bool& help) {
       ok = need_number(i, args.bag.start_s);
     } else if (arg == "--end") {
       ok = need_number(i, args.bag.end_s);
+    } else if (arg == "--load-map") {
+      ok = need_value(i, args.load_map);
+    } else if (arg == "--save-map") {
+      ok = need_value(i, args.save_map);
+    } else if (arg == "--initial-pose") {
+      double x, y, theta;
+      char extra;
+      ok = need_value(i, value) &&
+           std::sscanf(value.c_str(), "%lf,%lf,%lf%c", &x, &y, &theta, &extra) == 3 &&
+           std::isfinite(x) && std::isfinite(y) && std::isfinite(theta);
+      if (ok) args.initial_pose = Pose2(x, y, theta);
     } else if (arg == "--print-config") {
       args.print_config = true;
     } else {
@@ -116,6 +138,7 @@ std::string Parse(int argc, char** argv, Arguments& args, bool& help) {
   if (args.bag.end_s >= 0.0 && args.bag.end_s <= args.bag.start_s) {
     return "--end must be after --start";
   }
+  if (args.initial_pose && args.load_map.empty()) return "--initial-pose needs --load-map";
   return "";
 }
 
@@ -123,6 +146,17 @@ double PeakRssMb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0;  // Linux reports kilobytes
+}
+
+JsonObject GraphJson(const PoseGraph& graph) {
+  std::uint64_t per_kind[3] = {0, 0, 0};
+  for (const GraphEdge& edge : graph.edges()) ++per_kind[static_cast<int>(edge.kind)];
+  JsonObject json;
+  json.Add("nodes", static_cast<std::uint64_t>(graph.nodes().size()))
+      .Add("edges_odometry", per_kind[0])
+      .Add("edges_loop_closure", per_kind[1])
+      .Add("edges_condensed", per_kind[2]);
+  return json;
 }
 
 JsonObject StatsJson(const Mapper& mapper, double wall_s, double data_duration_s,
@@ -147,6 +181,8 @@ JsonObject StatsJson(const Mapper& mapper, double wall_s, double data_duration_s
       .Add("data_duration_s", data_duration_s)
       .Add("wall_time_s", wall_s)
       .Add("real_time_factor", wall_s > 0 ? data_duration_s / wall_s : 0.0)
+      .Add("session_id", mapper.session_id())
+      .Add("graph", GraphJson(mapper.graph()))
       .Add("peak_rss_mb", PeakRssMb())
       .Add("stage_time_s", stages);
   return json;
@@ -180,6 +216,17 @@ int RunOfflineMapper(int argc, char** argv) {
   const auto wall_start = std::chrono::steady_clock::now();
   StageTimes io_times;
   Mapper mapper(options);
+  if (!args.load_map.empty()) {
+    auto loaded = LoadSessionMap(args.load_map);
+    if (!loaded.ok()) {
+      std::cerr << "offline_mapper: " << loaded.status().message() << "\n";
+      return 2;
+    }
+    if (Status s = mapper.LoadSession(*loaded, args.initial_pose); !s.ok()) {
+      std::cerr << "offline_mapper: " << s.message() << "\n";
+      return 2;
+    }
+  }
   std::uint64_t scans_read = 0, scans_without_odometry = 0;
   double first_stamp = 0.0, last_stamp = 0.0;
   auto feed = [&](const ScanInput& input, ProgressReporter& progress) {
@@ -247,6 +294,7 @@ int RunOfflineMapper(int argc, char** argv) {
   };
   if (!args.trajectory.empty()) report(WriteTrajectory(args.trajectory, mapper.Trajectory()));
   if (!args.stats.empty()) report(WriteFileAtomically(args.stats, stats.ToString() + "\n"));
+  if (!args.save_map.empty()) report(SaveSessionMap(mapper.ExportSession(), args.save_map));
   if (!args.output_dir.empty()) {
     report(WriteMapOutputs(mapper, args.output_dir));
     report(WriteFileAtomically(args.output_dir + "/stats.json", stats.ToString() + "\n"));

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
 
 #include "longterm_mapper2d/core/graph/optimizer.h"
 
@@ -14,7 +15,7 @@ Mapper::Mapper(const MapperOptions& options)
       loop_closer_(options.loop_closing, options.registration) {}
 
 Pose2 Mapper::MapTTracker() const {
-  if (!last_node_) return Pose2();
+  if (!last_node_) return map_T_tracker_start_;
   return nodes_.at(*last_node_).map_T_node * tracker_T_node_.at(*last_node_).inverse();
 }
 
@@ -54,6 +55,10 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
 
   Pose2 tracker_T_base = dead_reckoned;
   bool failed = false;
+  if (!has_last_processed_ && initial_map_T_base_) {
+    // The tracker frame is the odometry frame; place it so the robot starts at the initial pose.
+    map_T_tracker_start_ = *initial_map_T_base_ * tracker_T_base.inverse();
+  }
   if (!tracker_.initialized()) {
     tracker_.Reset(input, tracker_T_base, stats_);
   } else {
@@ -104,6 +109,7 @@ void Mapper::MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_bas
 void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure) {
   LocalMapNode node;
   node.id = next_node_id_++;
+  node.session_id = session_id_;
   node.stamp_s = stamp_s;
   node.map_T_node = MapTTracker() * tracker_T_base;
   const Pose2 node_T_tracker = tracker_T_base.inverse();
@@ -149,9 +155,24 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
     edge.measurement = edges_.back().from_T_to;
     edge.information = edges_.back().information;
     edge.kind = EdgeKind::kOdometry;
-    edge.session_id = node.session_id;
+    edge.session_id = session_id_;
     edge.stamp_s = node.stamp_s;
     graph_.AddEdge(edge);
+  } else if (session_anchor_ && graph_.HasNode(*session_anchor_)) {
+    // The first node of a session on a loaded map: tied to the map by the initial pose.
+    GraphEdge link;
+    link.from = *session_anchor_;
+    link.to = node.id;
+    link.measurement = graph_.node(*session_anchor_).pose.Between(node.map_T_node);
+    const double s_xy = options_.session.initial_pose_sigma_m;
+    const double s_th = options_.session.initial_pose_sigma_rad;
+    link.information =
+        Eigen::Vector3d(1.0 / (s_xy * s_xy), 1.0 / (s_xy * s_xy), 1.0 / (s_th * s_th)).asDiagonal();
+    link.kind = EdgeKind::kOdometry;
+    link.session_id = session_id_;
+    link.stamp_s = node.stamp_s;
+    graph_.AddEdge(link);
+    session_anchor_.reset();
   }
   const NodeId id = node.id;
   nodes_.emplace(id, std::move(node));
@@ -227,6 +248,52 @@ std::vector<PosedScan> Mapper::WaypointScans() const {
     scans.push_back({map_T_tracker * w.tracker_T_base * w.base_T_laser, w.scan});
   }
   return scans;
+}
+
+Status Mapper::LoadSession(const SessionMap& map, const std::optional<Pose2>& initial_pose) {
+  if (stats_.scans_received > 0 || !nodes_.empty()) {
+    return Status::Error("a session map can only be loaded before the first scan");
+  }
+  if (map.nodes.empty()) return Status::Error("the session map has no nodes");
+  PoseGraph graph;
+  for (const auto& [id, node] : map.nodes) {
+    GraphNode graph_node;
+    graph_node.id = id;
+    graph_node.pose = node.map_T_node;
+    graph_node.session_id = node.session_id;
+    graph_node.stamp_s = node.stamp_s;
+    if (Status s = graph.AddNode(graph_node); !s.ok()) return s;
+  }
+  for (const GraphEdge& edge : map.edges) {
+    if (Status s = graph.AddEdge(edge); !s.ok()) return s;
+  }
+  if (Status s = graph.SetGauge(map.gauge); !s.ok()) return s;
+  graph_ = std::move(graph);
+  nodes_ = map.nodes;
+  session_id_ = map.sessions;
+  next_node_id_ = map.nodes.rbegin()->first + 1;
+  const Pose2 start = initial_pose ? *initial_pose : map.nodes.begin()->second.map_T_node;
+  initial_map_T_base_ = start;
+  // The session hangs off the loaded node nearest to where it starts.
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [id, node] : nodes_) {
+    const double d = (node.map_T_node.translation() - start.translation()).norm();
+    if (d < best) {
+      best = d;
+      session_anchor_ = id;
+    }
+  }
+  stats_.counters["nodes"] = nodes_.size();
+  return Status::Ok();
+}
+
+SessionMap Mapper::ExportSession() const {
+  SessionMap map;
+  map.sessions = session_id_ + 1;
+  map.nodes = nodes_;
+  map.edges = graph_.edges();
+  map.gauge = graph_.gauge().value_or(nodes_.empty() ? 0 : nodes_.begin()->first);
+  return map;
 }
 
 Cloud Mapper::LocalMapInMap() const { return Transform(MapTTracker(), tracker_.local_map()); }

@@ -23,6 +23,7 @@ struct MapperOptions {
   RegistrationOptions registration;
   MergerOptions merger;
   TrackerOptions tracker;
+  SessionOptions session;
   LoopClosingOptions loop_closing;
   OptimizerOptions optimizer;
   GridOptions grid;
@@ -34,6 +35,7 @@ struct MapperOptions {
     v.Section("registration", registration);
     v.Section("merger", merger);
     v.Section("tracker", tracker);
+    v.Section("session", session);
     v.Section("loop_closing", loop_closing);
     v.Section("optimizer", optimizer);
     v.Section("grid", grid);
@@ -44,6 +46,7 @@ struct MapperOptions {
     e.Section("registration", registration);
     e.Section("merger", merger);
     e.Section("tracker", tracker);
+    e.Section("session", session);
     e.Section("loop_closing", loop_closing);
     e.Section("optimizer", optimizer);
     e.Section("grid", grid);

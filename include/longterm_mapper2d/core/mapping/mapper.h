@@ -8,6 +8,7 @@
 #include "longterm_mapper2d/core/geometry/pose2.h"
 #include "longterm_mapper2d/core/graph/pose_graph.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
+#include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/local_map.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
 #include "longterm_mapper2d/core/mapping/tracker.h"
@@ -36,6 +37,14 @@ class Mapper {
 
   // Ends the session: the open stretch becomes the last node.
   void Finish();
+
+  // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
+  // is at `initial_pose` in the loaded map's frame at the first scan (default: the pose of the
+  // loaded map's first node, the docking-station case). Node ids continue.
+  Status LoadSession(const SessionMap& map, const std::optional<Pose2>& initial_pose);
+  // Everything a later session needs (call after Finish()).
+  SessionMap ExportSession() const;
+  int session_id() const { return session_id_; }
 
   // map_T_base for every input scan, in input order, at the final estimate.
   std::vector<StampedPose2> Trajectory() const;
@@ -79,6 +88,12 @@ class Mapper {
   MapperStats stats_;
   Tracker tracker_;
   Pose2 map_T_odom_;
+  int session_id_ = 0;
+  // Before this session's first node: where the tracker frame sits in the map (set from the
+  // initial pose at the first processed scan), and the loaded node the session links to.
+  std::optional<Pose2> initial_map_T_base_;
+  Pose2 map_T_tracker_start_;
+  std::optional<NodeId> session_anchor_;
 
   // Tracking state.
   bool has_last_processed_ = false;

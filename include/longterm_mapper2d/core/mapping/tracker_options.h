@@ -64,4 +64,22 @@ struct TrackerOptions {
   }
 };
 
+// How a new session attaches to a loaded map.
+struct SessionOptions {
+  // Uncertainty of the initial pose in the loaded map (the link from the nearest loaded node to
+  // the session's first node, until loop closures tie the session in).
+  double initial_pose_sigma_m = 0.5;
+  double initial_pose_sigma_rad = 0.2;
+
+  template <class V>
+  void Visit(V& v) {
+    v("initial_pose_sigma_m", initial_pose_sigma_m);
+    v("initial_pose_sigma_rad", initial_pose_sigma_rad);
+  }
+  void Validate(OptionErrors& e) const {
+    e.Require(initial_pose_sigma_m > 0.0, "initial_pose_sigma_m", "must be positive");
+    e.Require(initial_pose_sigma_rad > 0.0, "initial_pose_sigma_rad", "must be positive");
+  }
+};
+
 }  // namespace longterm_mapper2d

@@ -1,0 +1,37 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "longterm_mapper2d/core/common/status.h"
+#include "longterm_mapper2d/core/graph/pose_graph.h"
+#include "longterm_mapper2d/core/mapping/local_map.h"
+
+namespace longterm_mapper2d {
+
+// Everything a later session needs: the local maps (pose, cloud, waypoints with their scans),
+// the graph edges with their kinds, the gauge, and how many sessions built it.
+struct SessionMap {
+  int sessions = 0;
+  std::map<NodeId, LocalMapNode> nodes;
+  std::vector<GraphEdge> edges;
+  NodeId gauge = 0;
+};
+
+// The session map file (.ltmap), version 1, little-endian:
+//   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
+//   payload: int32 sessions, int64 gauge, nodes, edges (counts as uint64, values as written by
+//   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle).
+// Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
+// allocation. Serialising a parsed map gives the same bytes.
+constexpr std::uint32_t kSessionMapVersion = 1;
+std::string SerializeSessionMap(const SessionMap& map);
+StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
+
+// Atomic save (temporary file in the same folder, fsync, rename): the previous file survives any
+// failure. Load refuses truncated, corrupted and newer-version files with the reason.
+Status SaveSessionMap(const SessionMap& map, const std::string& path);
+StatusOr<SessionMap> LoadSessionMap(const std::string& path);
+
+}  // namespace longterm_mapper2d

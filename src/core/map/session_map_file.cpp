@@ -1,0 +1,223 @@
+#include "longterm_mapper2d/core/map/session_map_file.h"
+
+#include <cstring>
+
+#include "longterm_mapper2d/core/io/atomic_file.h"
+#include "longterm_mapper2d/core/io/binary_io.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+constexpr char kMagic[8] = {'L', 'T', 'M', 'A', 'P', '2', 'D', '\n'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 4;
+constexpr std::size_t kMaxFrameIdBytes = 256;
+
+void WritePose(BinaryWriter& w, const Pose2& pose) {
+  w.Write(pose.x());
+  w.Write(pose.y());
+  w.Write(pose.theta());
+}
+
+bool ReadPose(BinaryReader& r, Pose2& pose, const char* what) {
+  double x, y, theta;
+  if (!r.Read(x, what) || !r.Read(y, what) || !r.Read(theta, what)) return false;
+  pose = Pose2(x, y, theta);
+  if (!pose.IsFinite()) {
+    r.Fail(std::string("non-finite ") + what);
+    return false;
+  }
+  return true;
+}
+
+void WriteScan(BinaryWriter& w, const LaserScan& scan) {
+  w.Write(scan.stamp_s);
+  w.WriteString(scan.frame_id);
+  w.Write(scan.angle_min_rad);
+  w.Write(scan.angle_increment_rad);
+  w.Write(scan.range_min_m);
+  w.Write(scan.range_max_m);
+  w.Write<std::uint64_t>(scan.ranges.size());
+  for (float r : scan.ranges) w.Write(r);
+}
+
+bool ReadScan(BinaryReader& r, LaserScan& scan) {
+  std::uint64_t beams = 0;
+  if (!r.Read(scan.stamp_s, "scan stamp") ||
+      !r.ReadString(scan.frame_id, kMaxFrameIdBytes, "scan frame id") ||
+      !r.Read(scan.angle_min_rad, "scan angle") || !r.Read(scan.angle_increment_rad, "scan angle") ||
+      !r.Read(scan.range_min_m, "scan range") || !r.Read(scan.range_max_m, "scan range") ||
+      !r.ReadCount(beams, sizeof(float), "scan beams")) {
+    return false;
+  }
+  scan.ranges.resize(beams);
+  for (float& range : scan.ranges) {
+    if (!r.Read(range, "scan ranges")) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string SerializeSessionMap(const SessionMap& map) {
+  BinaryWriter payload;
+  payload.Write<std::int32_t>(map.sessions);
+  payload.Write<std::int64_t>(map.gauge);
+  payload.Write<std::uint64_t>(map.nodes.size());
+  for (const auto& [id, node] : map.nodes) {
+    payload.Write<std::int64_t>(node.id);
+    payload.Write<std::int32_t>(node.session_id);
+    payload.Write(node.stamp_s);
+    WritePose(payload, node.map_T_node);
+    payload.Write<std::uint64_t>(node.cloud.size());
+    for (const RichPoint& p : node.cloud) {
+      payload.Write(p.point_m.x());
+      payload.Write(p.point_m.y());
+      payload.Write(p.normal.x());
+      payload.Write(p.normal.y());
+      payload.Write(p.weight);
+    }
+    payload.Write<std::uint64_t>(node.waypoints.size());
+    for (const Waypoint& w : node.waypoints) {
+      WritePose(payload, w.node_T_base);
+      WritePose(payload, w.base_T_laser);
+      WriteScan(payload, w.scan);
+    }
+  }
+  payload.Write<std::uint64_t>(map.edges.size());
+  for (const GraphEdge& e : map.edges) {
+    payload.Write<std::int64_t>(e.from);
+    payload.Write<std::int64_t>(e.to);
+    payload.Write<std::uint8_t>(static_cast<std::uint8_t>(e.kind));
+    payload.Write<std::int32_t>(e.session_id);
+    payload.Write(e.stamp_s);
+    WritePose(payload, e.measurement);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i; j < 3; ++j) payload.Write(e.information(i, j));
+    }
+  }
+  const std::string& body = payload.bytes();
+  BinaryWriter file;
+  file.WriteBytes(std::string(kMagic, sizeof(kMagic)));
+  file.Write<std::uint32_t>(kSessionMapVersion);
+  file.Write<std::uint64_t>(body.size());
+  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
+  file.WriteBytes(body);
+  return file.TakeBytes();
+}
+
+StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source) {
+  auto fail = [&](const std::string& why) {
+    return Status::Error("cannot load session map '" + source + "': " + why);
+  };
+  if (bytes.size() < kHeaderBytes) return fail("file too short for the header (truncated?)");
+  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    return fail("not a session map file (bad magic)");
+  }
+  BinaryReader header(bytes.data() + sizeof(kMagic), kHeaderBytes - sizeof(kMagic));
+  std::uint32_t version = 0, crc = 0;
+  std::uint64_t payload_size = 0;
+  header.Read(version, "version");
+  header.Read(payload_size, "payload size");
+  header.Read(crc, "checksum");
+  if (version > kSessionMapVersion) {
+    return fail("format version " + std::to_string(version) + " is newer than this build reads (" +
+                std::to_string(kSessionMapVersion) + ")");
+  }
+  if (version == 0) return fail("invalid format version 0");
+  if (payload_size != bytes.size() - kHeaderBytes) {
+    return fail("payload is " + std::to_string(bytes.size() - kHeaderBytes) + " bytes, header says " +
+                std::to_string(payload_size) + " (truncated or extended)");
+  }
+  const char* body = bytes.data() + kHeaderBytes;
+  if (Crc32(body, payload_size) != crc) return fail("checksum mismatch (corrupted)");
+
+  BinaryReader r(body, payload_size);
+  SessionMap map;
+  std::int32_t sessions = 0;
+  std::int64_t gauge = 0;
+  std::uint64_t node_count = 0;
+  r.Read(sessions, "session count");
+  r.Read(gauge, "gauge");
+  // A node takes at least 8 + 4 + 8 + 24 + 8 + 8 bytes.
+  r.ReadCount(node_count, 60, "nodes");
+  map.sessions = sessions;
+  map.gauge = gauge;
+  for (std::uint64_t n = 0; n < node_count && r.ok(); ++n) {
+    LocalMapNode node;
+    std::int64_t id = 0;
+    std::int32_t session = 0;
+    std::uint64_t points = 0, waypoints = 0;
+    r.Read(id, "node id");
+    r.Read(session, "node session");
+    r.Read(node.stamp_s, "node stamp");
+    ReadPose(r, node.map_T_node, "node pose");
+    r.ReadCount(points, 5 * sizeof(double), "cloud points");
+    if (!r.ok()) break;
+    node.id = id;
+    node.session_id = session;
+    node.cloud.resize(points);
+    for (RichPoint& p : node.cloud) {
+      double v[5];
+      for (double& x : v) r.Read(x, "cloud point");
+      p.point_m = Eigen::Vector2d(v[0], v[1]);
+      p.normal = Eigen::Vector2d(v[2], v[3]);
+      p.weight = v[4];
+    }
+    r.ReadCount(waypoints, 100, "waypoints");  // two poses and an empty scan
+    if (!r.ok()) break;
+    node.waypoints.resize(waypoints);
+    for (Waypoint& w : node.waypoints) {
+      if (!ReadPose(r, w.node_T_base, "waypoint pose") ||
+          !ReadPose(r, w.base_T_laser, "waypoint laser pose") || !ReadScan(r, w.scan)) {
+        break;
+      }
+    }
+    if (r.ok() && !map.nodes.emplace(node.id, std::move(node)).second) {
+      return fail("node " + std::to_string(id) + " appears twice");
+    }
+  }
+  std::uint64_t edge_count = 0;
+  r.ReadCount(edge_count, 8 + 8 + 1 + 4 + 8 + 24 + 48, "edges");
+  for (std::uint64_t n = 0; n < edge_count && r.ok(); ++n) {
+    GraphEdge e;
+    std::int64_t from = 0, to = 0;
+    std::uint8_t kind = 0;
+    std::int32_t session = 0;
+    r.Read(from, "edge");
+    r.Read(to, "edge");
+    r.Read(kind, "edge kind");
+    r.Read(session, "edge session");
+    r.Read(e.stamp_s, "edge stamp");
+    ReadPose(r, e.measurement, "edge measurement");
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i; j < 3; ++j) {
+        r.Read(e.information(i, j), "edge information");
+        e.information(j, i) = e.information(i, j);
+      }
+    }
+    if (!r.ok()) break;
+    if (kind > static_cast<std::uint8_t>(EdgeKind::kCondensed)) return fail("unknown edge kind");
+    if (!map.nodes.count(from) || !map.nodes.count(to)) return fail("edge refers to a missing node");
+    e.from = from;
+    e.to = to;
+    e.kind = static_cast<EdgeKind>(kind);
+    e.session_id = session;
+    map.edges.push_back(e);
+  }
+  if (!r.ok()) return fail(r.status().message());
+  if (r.remaining() != 0) return fail("unexpected bytes after the edges");
+  if (!map.nodes.empty() && !map.nodes.count(map.gauge)) return fail("the gauge node is missing");
+  return map;
+}
+
+Status SaveSessionMap(const SessionMap& map, const std::string& path) {
+  return WriteFileAtomically(path, SerializeSessionMap(map));
+}
+
+StatusOr<SessionMap> LoadSessionMap(const std::string& path) {
+  auto bytes = ReadFileBytes(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParseSessionMap(*bytes, path);
+}
+
+}  // namespace longterm_mapper2d

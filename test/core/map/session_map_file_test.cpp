@@ -1,0 +1,130 @@
+#include "longterm_mapper2d/core/map/session_map_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include "longterm_mapper2d/core/io/atomic_file.h"
+#include "longterm_mapper2d/core/io/binary_io.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+SessionMap SmallMap() {
+  SessionMap map;
+  map.sessions = 2;
+  map.gauge = 3;
+  for (NodeId id : {3, 4, 7}) {
+    LocalMapNode node;
+    node.id = id;
+    node.session_id = id == 7 ? 1 : 0;
+    node.stamp_s = 100.0 + id;
+    node.map_T_node = Pose2(0.5 * id, -0.25 * id, 0.1 * id);
+    for (int k = 0; k < 5; ++k) {
+      RichPoint p;
+      p.point_m = Eigen::Vector2d(k, 0.3 * k);
+      p.normal = Eigen::Vector2d(0.6, 0.8);
+      p.weight = 1.0 / (k + 1);
+      node.cloud.push_back(p);
+    }
+    Waypoint w;
+    w.node_T_base = Pose2(-0.1, 0.0, 0.01);
+    w.base_T_laser = Pose2(0.22, 0.0, 0.0);
+    w.scan.stamp_s = 99.5 + id;
+    w.scan.frame_id = "laser";
+    w.scan.angle_min_rad = -M_PI / 2;
+    w.scan.angle_increment_rad = M_PI / 180;
+    w.scan.range_min_m = 0.1;
+    w.scan.range_max_m = 30.0;
+    w.scan.ranges = {1.0f, 2.5f, std::numeric_limits<float>::infinity(), 3.0f};
+    node.waypoints.push_back(w);
+    map.nodes.emplace(id, node);
+  }
+  GraphEdge odometry;
+  odometry.from = 3;
+  odometry.to = 4;
+  odometry.measurement = Pose2(0.5, -0.25, 0.1);
+  odometry.information << 100, 1, 2, 1, 90, 3, 2, 3, 400;
+  map.edges.push_back(odometry);
+  GraphEdge closure = odometry;
+  closure.from = 7;
+  closure.to = 3;
+  closure.kind = EdgeKind::kLoopClosure;
+  closure.session_id = 1;
+  map.edges.push_back(closure);
+  return map;
+}
+
+TEST(SessionMapFile, RoundTripIsByteIdentical) {
+  const std::string bytes = SerializeSessionMap(SmallMap());
+  const auto parsed = ParseSessionMap(bytes, "small.ltmap");
+  ASSERT_TRUE(parsed.ok()) << parsed.status().message();
+  EXPECT_EQ(parsed->nodes.size(), 3u);
+  EXPECT_EQ(parsed->edges.size(), 2u);
+  EXPECT_EQ(parsed->edges[1].kind, EdgeKind::kLoopClosure);
+  EXPECT_EQ(parsed->nodes.at(7).session_id, 1);
+  EXPECT_EQ(parsed->nodes.at(4).waypoints[0].scan.ranges.size(), 4u);
+  EXPECT_EQ(SerializeSessionMap(*parsed), bytes);
+}
+
+TEST(SessionMapFile, EveryTruncationIsRefusedWithAReason) {
+  const std::string bytes = SerializeSessionMap(SmallMap());
+  for (std::size_t length = 0; length < bytes.size(); ++length) {
+    const auto parsed = ParseSessionMap(bytes.substr(0, length), "cut.ltmap");
+    ASSERT_FALSE(parsed.ok()) << "accepted a file cut at byte " << length;
+    EXPECT_NE(parsed.status().message().find("cut.ltmap"), std::string::npos);
+  }
+}
+
+TEST(SessionMapFile, CorruptionAndNewerVersionsAreRefused) {
+  const std::string bytes = SerializeSessionMap(SmallMap());
+  for (std::size_t at = 0; at < bytes.size(); at += 7) {
+    std::string corrupt = bytes;
+    corrupt[at] = static_cast<char>(corrupt[at] ^ 0x5A);
+    EXPECT_FALSE(ParseSessionMap(corrupt, "bad.ltmap").ok()) << "byte " << at;
+  }
+  std::string newer = bytes;
+  newer[8] = 2;  // version field
+  const auto parsed = ParseSessionMap(newer, "new.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("newer"), std::string::npos);
+}
+
+TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
+  // A valid header and checksum over a payload that claims 10^9 nodes.
+  BinaryWriter payload;
+  payload.Write<std::int32_t>(1);
+  payload.Write<std::int64_t>(0);
+  payload.Write<std::uint64_t>(1000000000ull);
+  const std::string body = payload.bytes();
+  BinaryWriter file;
+  file.WriteBytes("LTMAP2D\n");
+  file.Write<std::uint32_t>(1);
+  file.Write<std::uint64_t>(body.size());
+  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
+  file.WriteBytes(body);
+  const auto parsed = ParseSessionMap(file.bytes(), "huge.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("implausible count"), std::string::npos);
+}
+
+TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {
+  char dir_template[] = "/tmp/ltmap_test_XXXXXX";
+  const std::string dir = ::mkdtemp(dir_template);
+  const std::string path = dir + "/map.ltmap";
+  ASSERT_TRUE(SaveSessionMap(SmallMap(), path).ok());
+  const auto before = ReadFileBytes(path);
+  ASSERT_TRUE(before.ok());
+  // Saving into a folder that does not exist fails and leaves the old file alone.
+  EXPECT_FALSE(SaveSessionMap(SmallMap(), dir + "/missing/map.ltmap").ok());
+  const auto loaded = LoadSessionMap(path);
+  ASSERT_TRUE(loaded.ok()) << loaded.status().message();
+  EXPECT_EQ(SerializeSessionMap(*loaded), *before);
+  EXPECT_FALSE(LoadSessionMap(dir + "/none.ltmap").ok());
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d

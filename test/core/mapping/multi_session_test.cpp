@@ -1,0 +1,94 @@
+#include <gtest/gtest.h>
+
+#include "longterm_mapper2d/core/map/session_map_file.h"
+#include "longterm_mapper2d/core/mapping/mapper.h"
+#include "longterm_mapper2d/core/simulation/session_simulator.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+struct SessionResult {
+  SessionMap map;
+  double max_error_m = 0.0;
+  int session_id = -1;
+};
+
+// Maps one simulated session of the small room, optionally on top of a saved map.
+SessionResult MapSession(const World& world, int session, const SessionMap* previous) {
+  SimulationOptions simulation;
+  simulation.duration_s = 60.0;
+  SessionSimulator simulator(world, session, simulation, 40 + session);
+  const auto steps = simulator.Run();
+  Mapper mapper(MapperOptions{});
+  if (previous) {
+    EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
+  }
+  for (const SimulatedStep& step : steps) {
+    ScanInput input;
+    input.scan = step.scan;
+    input.odom_T_base = step.odom_T_base;
+    input.base_T_laser = simulator.base_T_laser();
+    mapper.AddScan(input);
+  }
+  mapper.Finish();
+  SessionResult result;
+  const auto trajectory = mapper.Trajectory();
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    result.max_error_m = std::max(
+        result.max_error_m,
+        (trajectory[i].pose.translation() - steps[i].map_T_base.translation()).norm());
+  }
+  result.session_id = mapper.session_id();
+  result.map = mapper.ExportSession();
+  return result;
+}
+
+TEST(MultiSession, ASecondSessionContinuesTheMapAndClosesLoopsWithIt) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  const SessionResult first = MapSession(*world, 1, nullptr);
+  EXPECT_EQ(first.session_id, 0);
+  EXPECT_LT(first.max_error_m, 0.05);
+  // Through the file, as between days.
+  const auto reloaded = ParseSessionMap(SerializeSessionMap(first.map), "session1.ltmap");
+  ASSERT_TRUE(reloaded.ok());
+  const SessionResult second = MapSession(*world, 2, &*reloaded);
+  EXPECT_EQ(second.session_id, 1);
+  EXPECT_EQ(second.map.sessions, 2);
+  // The robot starts at the docking pose (the first node of session 1) and is tracked in the
+  // same frame as the first session.
+  EXPECT_LT(second.max_error_m, 0.05);
+  // Node ids continue; old nodes stay; closures join the sessions.
+  const NodeId last_of_first = first.map.nodes.rbegin()->first;
+  int new_nodes = 0, cross_closures = 0;
+  for (const auto& [id, node] : second.map.nodes) {
+    if (node.session_id == 1) {
+      ++new_nodes;
+      EXPECT_GT(id, last_of_first);
+    }
+  }
+  EXPECT_GT(new_nodes, 0);
+  for (const GraphEdge& edge : second.map.edges) {
+    if (edge.kind != EdgeKind::kLoopClosure) continue;
+    const int a = second.map.nodes.at(edge.from).session_id;
+    const int b = second.map.nodes.at(edge.to).session_id;
+    cross_closures += a != b;
+  }
+  EXPECT_GT(cross_closures, 0);
+}
+
+TEST(MultiSession, LoadingAfterTheFirstScanIsRefused) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  const SessionResult first = MapSession(*world, 1, nullptr);
+  Mapper mapper(MapperOptions{});
+  ScanInput input;
+  input.scan.ranges.assign(10, 1.0f);
+  mapper.AddScan(input);
+  EXPECT_FALSE(mapper.LoadSession(first.map, std::nullopt).ok());
+  Mapper empty(MapperOptions{});
+  EXPECT_FALSE(empty.LoadSession(SessionMap{}, std::nullopt).ok());
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
