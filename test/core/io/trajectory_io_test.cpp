@@ -1,0 +1,31 @@
+#include "longterm_mapper2d/core/io/trajectory_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace longterm_mapper2d {
+namespace {
+
+TEST(TrajectoryIo, RoundTripsAndNamesMalformedLines) {
+  const std::string path = "/tmp/ltm_trajectory_test_" + std::to_string(::getpid()) + ".txt";
+  const std::vector<StampedPose2> trajectory = {{1.5, Pose2(1, 2, 0.3)}, {2.5, Pose2(-1, 0, -3.0)}};
+  ASSERT_TRUE(WriteTrajectory(path, trajectory).ok());
+  const auto read = ReadTrajectory(path);
+  ASSERT_TRUE(read.ok());
+  ASSERT_EQ(read->size(), 2u);
+  EXPECT_NEAR((*read)[1].pose.theta(), -3.0, 1e-6);
+  {
+    std::ofstream out(path);
+    out << "# header\n1 2 3 0.1\n\n2 3 x 0.2\n";
+  }
+  const auto bad = ReadTrajectory(path);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find(path + ":4:"), std::string::npos) << bad.status().message();
+  std::remove(path.c_str());
+  EXPECT_FALSE(WriteTrajectory("/nonexistent/dir/t.txt", trajectory).ok());
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
