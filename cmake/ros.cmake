@@ -51,7 +51,13 @@ if(LTM_REAL_DATA_TEST_SOURCES)
     PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS real_data TIMEOUT 1800)
 endif()
 
-# Integration tests with roscore: test/rostest/*.test, run through rostest by CTest.
+# Integration tests with roscore: test/rostest/*.test, run through rostest by CTest. Their test
+# scripts go next to the executables, where roslaunch finds nodes of this package.
+file(GLOB LTM_ROSTEST_SCRIPTS CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/rostest/*.py")
+foreach(script ${LTM_ROSTEST_SCRIPTS})
+  get_filename_component(script_name ${script} NAME)
+  configure_file(${script} "${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}/${script_name}" COPYONLY)
+endforeach()
 file(GLOB LTM_ROSTESTS CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/rostest/*.test")
 foreach(rostest_file ${LTM_ROSTESTS})
   get_filename_component(rostest_name ${rostest_file} NAME_WE)

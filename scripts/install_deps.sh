@@ -9,9 +9,10 @@ PACKAGES=(
   ros-sensor-msgs ros-nav-msgs ros-visualization-msgs ros-std-srvs ros-geometry-msgs
   ros-diagnostic-msgs libdiagnostic-updater-dev ros-message-generation ros-message-runtime
   libsensor-msgs-dev libnav-msgs-dev libvisualization-msgs-dev libstd-srvs-dev libgeometry-msgs-dev
-  libstd-msgs-dev libdiagnostic-msgs-dev
+  libstd-msgs-dev libdiagnostic-msgs-dev libmessage-filters-dev
   python3-rostest python3-roslaunch python3-rosbag rosbash python3-rostopic python3-rosservice
-  python3-tf2-ros python3-sensor-msgs python3-yaml
+  python3-tf2-ros python3-sensor-msgs python3-yaml python3-nav-msgs python3-visualization-msgs
+  python3-std-srvs python3-geometry-msgs
   libceres-dev libsuitesparse-dev libeigen3-dev libgtest-dev libyaml-cpp-dev libpng-dev zlib1g-dev
 )
 

@@ -1,5 +1,7 @@
 #include "longterm_mapper2d/ros/conversions.h"
 
+#include <sensor_msgs/point_cloud2_iterator.h>
+
 #include <cmath>
 
 namespace longterm_mapper2d_ros {
@@ -33,6 +35,42 @@ geometry_msgs::Transform ToRosTransform(const longterm_mapper2d::Pose2& pose) {
   transform.rotation.z = std::sin(pose.theta() / 2.0);
   transform.rotation.w = std::cos(pose.theta() / 2.0);
   return transform;
+}
+
+nav_msgs::OccupancyGrid ToRosGrid(const longterm_mapper2d::OccupancyGrid& grid,
+                                  const std::string& frame, const ros::Time& stamp) {
+  nav_msgs::OccupancyGrid msg;
+  msg.header.frame_id = frame;
+  msg.header.stamp = stamp;
+  msg.info.map_load_time = stamp;
+  msg.info.resolution = static_cast<float>(grid.resolution_m);
+  msg.info.width = static_cast<uint32_t>(grid.width);
+  msg.info.height = static_cast<uint32_t>(grid.height);
+  msg.info.origin.position.x = grid.origin_m.x();
+  msg.info.origin.position.y = grid.origin_m.y();
+  msg.info.origin.orientation.w = 1.0;
+  msg.data.assign(grid.cells.begin(), grid.cells.end());
+  return msg;
+}
+
+sensor_msgs::PointCloud2 ToRosCloud(const longterm_mapper2d::Cloud& cloud, const std::string& frame,
+                                    const ros::Time& stamp) {
+  sensor_msgs::PointCloud2 msg;
+  msg.header.frame_id = frame;
+  msg.header.stamp = stamp;
+  sensor_msgs::PointCloud2Modifier modifier(msg);
+  modifier.setPointCloud2FieldsByString(1, "xyz");
+  modifier.resize(cloud.size());
+  sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y"), z(msg, "z");
+  for (const auto& p : cloud) {
+    *x = static_cast<float>(p.point_m.x());
+    *y = static_cast<float>(p.point_m.y());
+    *z = 0.0f;
+    ++x;
+    ++y;
+    ++z;
+  }
+  return msg;
 }
 
 }  // namespace longterm_mapper2d_ros

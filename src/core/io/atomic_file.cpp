@@ -62,6 +62,19 @@ Status WriteFileAtomically(const std::string& path, const std::string& bytes) {
   return Status::Ok();
 }
 
+Status MakeDirectories(const std::string& directory) {
+  std::string partial;
+  for (std::size_t i = 0; i <= directory.size(); ++i) {
+    if (i == directory.size() || directory[i] == '/') {
+      if (!partial.empty() && ::mkdir(partial.c_str(), 0755) != 0 && errno != EEXIST) {
+        return Status::Error("cannot create folder '" + partial + "': " + ErrnoText());
+      }
+    }
+    if (i < directory.size()) partial += directory[i];
+  }
+  return Status::Ok();
+}
+
 StatusOr<std::string> ReadFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status::Error("cannot open '" + path + "'");

@@ -191,6 +191,12 @@ void Mapper::CloseLoops(NodeId node, bool force) {
   if (!closures.empty()) OptimizeGraph(options_.loop_closing.optimizer_iterations);
 }
 
+bool Mapper::OptimizeNow() {
+  const auto before = stats_.counters["optimizations_unusable"];
+  OptimizeGraph(options_.optimizer.max_iterations);
+  return stats_.counters["optimizations_unusable"] == before;
+}
+
 void Mapper::OptimizeGraph(int max_iterations) {
   ScopedStageTimer timer(stats_.stage_times, "optimization");
   OptimizerOptions options = options_.optimizer;

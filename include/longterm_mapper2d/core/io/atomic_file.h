@@ -12,6 +12,9 @@ namespace longterm_mapper2d {
 // error (missing folder, full disk, permissions) is returned and leaves `path` untouched.
 Status WriteFileAtomically(const std::string& path, const std::string& bytes);
 
+// Creates a folder and its missing parents (like mkdir -p).
+Status MakeDirectories(const std::string& directory);
+
 // Reads a whole file as bytes.
 StatusOr<std::string> ReadFileBytes(const std::string& path);
 

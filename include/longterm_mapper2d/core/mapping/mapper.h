@@ -37,6 +37,9 @@ class Mapper {
 
   // Ends the session: the open stretch becomes the last node.
   void Finish();
+  // Re-optimises the whole graph now (up to the optimizer's iteration limit); false if the solve
+  // was unusable and the estimate kept.
+  bool OptimizeNow();
 
   // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
   // is at `initial_pose` in the loaded map's frame at the first scan (default: the pose of the

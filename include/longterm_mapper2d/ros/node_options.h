@@ -1,0 +1,58 @@
+#pragma once
+
+#include <string>
+
+#include "longterm_mapper2d/core/config/option_errors.h"
+
+namespace longterm_mapper2d_ros {
+
+// What the node adds to the mapper's options: topics, frames, rates, where maps are saved.
+struct NodeOptions {
+  std::string scan_topic = "scan";
+  std::string odom_frame = "odom";
+  std::string base_frame = "base_link";
+  std::string map_frame = "map";
+  // If set, odometry comes from this nav_msgs/Odometry topic instead of TF.
+  std::string odom_topic;
+  double tf_publish_rate_hz = 20.0;
+  // map -> odom is stamped this far in the future (REP-105: it must cover the lookup delay).
+  double transform_tolerance_s = 0.1;
+  // A scan that waits longer than this for its odometry TF is dropped (and counted).
+  double tf_wait_timeout_s = 1.0;
+  double map_update_interval_s = 2.0;
+  int scan_queue_size = 200;
+  // Relative service paths are resolved here; paths escaping it with ".." are refused.
+  std::string map_folder = "maps";
+  // A session map to continue at start-up ("" for a new map).
+  std::string load_map;
+
+  template <class V>
+  void Visit(V& v) {
+    v("scan_topic", scan_topic);
+    v("odom_frame", odom_frame);
+    v("base_frame", base_frame);
+    v("map_frame", map_frame);
+    v("odom_topic", odom_topic);
+    v("tf_publish_rate_hz", tf_publish_rate_hz);
+    v("transform_tolerance_s", transform_tolerance_s);
+    v("tf_wait_timeout_s", tf_wait_timeout_s);
+    v("map_update_interval_s", map_update_interval_s);
+    v("scan_queue_size", scan_queue_size);
+    v("map_folder", map_folder);
+    v("load_map", load_map);
+  }
+  void Validate(longterm_mapper2d::OptionErrors& e) const {
+    e.Require(!scan_topic.empty(), "scan_topic", "must not be empty");
+    e.Require(!odom_frame.empty() && !base_frame.empty() && !map_frame.empty(), "map_frame",
+              "frames must not be empty");
+    e.Require(odom_frame != map_frame, "map_frame", "must differ from odom_frame");
+    e.Require(tf_publish_rate_hz > 0.0, "tf_publish_rate_hz", "must be positive");
+    e.Require(transform_tolerance_s >= 0.0, "transform_tolerance_s", "must be non-negative");
+    e.Require(tf_wait_timeout_s > 0.0, "tf_wait_timeout_s", "must be positive");
+    e.Require(map_update_interval_s > 0.0, "map_update_interval_s", "must be positive");
+    e.Require(scan_queue_size >= 1, "scan_queue_size", "must be at least 1");
+    e.Require(!map_folder.empty(), "map_folder", "must not be empty");
+  }
+};
+
+}  // namespace longterm_mapper2d_ros
