@@ -17,9 +17,9 @@ struct NodeOptions {
   double tf_publish_rate_hz = 20.0;
   // map -> odom is stamped this far in the future (REP-105: it must cover the lookup delay).
   double transform_tolerance_s = 0.1;
-  // A scan that waits longer than this for its odometry TF is dropped (and counted).
-  double tf_wait_timeout_s = 1.0;
   double map_update_interval_s = 2.0;
+  // Scans waiting for their odometry TF, and scans waiting for the worker; beyond this the oldest
+  // waiting for TF (or the newest for the worker) is dropped and counted.
   int scan_queue_size = 200;
   // Relative service paths are resolved here; paths escaping it with ".." are refused.
   std::string map_folder = "maps";
@@ -35,7 +35,6 @@ struct NodeOptions {
     v("odom_topic", odom_topic);
     v("tf_publish_rate_hz", tf_publish_rate_hz);
     v("transform_tolerance_s", transform_tolerance_s);
-    v("tf_wait_timeout_s", tf_wait_timeout_s);
     v("map_update_interval_s", map_update_interval_s);
     v("scan_queue_size", scan_queue_size);
     v("map_folder", map_folder);
@@ -48,7 +47,6 @@ struct NodeOptions {
     e.Require(odom_frame != map_frame, "map_frame", "must differ from odom_frame");
     e.Require(tf_publish_rate_hz > 0.0, "tf_publish_rate_hz", "must be positive");
     e.Require(transform_tolerance_s >= 0.0, "transform_tolerance_s", "must be non-negative");
-    e.Require(tf_wait_timeout_s > 0.0, "tf_wait_timeout_s", "must be positive");
     e.Require(map_update_interval_s > 0.0, "map_update_interval_s", "must be positive");
     e.Require(scan_queue_size >= 1, "scan_queue_size", "must be at least 1");
     e.Require(!map_folder.empty(), "map_folder", "must not be empty");
