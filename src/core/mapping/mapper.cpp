@@ -44,6 +44,10 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
     return ScanOutcome::kSkipped;
   }
   if (!input.scan.ValidateGeometry().ok()) return skip("invalid_geometry");
+  if (has_last_processed_ && input.scan.stamp_s < last_processed_stamp_s_) {
+    // A looped bag or a clock reset: the scan cannot follow the last one in time.
+    return skip("time_backwards");
+  }
   if (static_cast<int>(input.scan.ranges.size()) < options_.input.min_beams) {
     return skip("too_few_beams");
   }
@@ -77,6 +81,7 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   }
   ++stats_.scans_processed;
   has_last_processed_ = true;
+  last_processed_stamp_s_ = input.scan.stamp_s;
   last_odom_T_base_ = input.odom_T_base;
   last_tracker_T_base_ = tracker_T_base;
   Record(input.scan.stamp_s, tracker_T_base, input.odom_T_base);

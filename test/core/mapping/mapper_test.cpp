@@ -156,6 +156,17 @@ TEST(Mapper, ATrackerFailureResetsTheLocalMapAndStartsANode) {
   for (const auto& pose : mapper.Trajectory()) EXPECT_TRUE(pose.pose.IsFinite());
 }
 
+TEST(Mapper, ScansGoingBackInTimeAreSkipped) {
+  Drive drive = MakeDrive(10, 0.12, 8);
+  drive.inputs[6].scan.stamp_s = 0.05;  // older than scans 1..5
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  EXPECT_EQ(mapper.stats().scans_skipped.at("time_backwards"), 1u);
+  EXPECT_EQ(mapper.stats().scans_processed, 9u);
+  EXPECT_EQ(mapper.Trajectory().size(), 10u);
+}
+
 TEST(Mapper, BadScansAreSkippedWithAReasonAndKeepAPose) {
   Drive drive = MakeDrive(10, 0.12, 7);
   drive.inputs[3].scan.angle_increment_rad = -0.01;
