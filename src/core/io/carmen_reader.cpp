@@ -177,11 +177,40 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
   // Records may be out of time order in original logs; the mapper needs them sorted.
   std::stable_sort(odometry_records.begin(), odometry_records.end(),
                    [](const StampedPose2& a, const StampedPose2& b) { return a.stamp_s < b.stamp_s; });
-  for (const auto& record : odometry_records) odometry.Add(record.stamp_s, record.pose);
-  log.odometry = std::move(odometry_records);
   std::stable_sort(raw_scans.begin(), raw_scans.end(), [](const RawScan& a, const RawScan& b) {
     return a.input.scan.stamp_s < b.input.scan.stamp_s;
   });
+  // ODOM records are trusted only if they move and their stamps advance and are distinct; some
+  // logs carry placeholder records (all zeros) or stamps printed with too few digits to tell
+  // apart, and then each scan line's own odometry pose is used instead.
+  bool odometry_usable = odometry_records.size() >= 2 &&
+                         odometry_records.back().stamp_s > odometry_records.front().stamp_s;
+  if (odometry_usable) {
+    // Stamps printed with too few digits repeat: interpolating them would freeze the robot.
+    std::size_t repeated = 0;
+    for (std::size_t i = 1; i < odometry_records.size(); ++i) {
+      repeated += odometry_records[i].stamp_s == odometry_records[i - 1].stamp_s;
+    }
+    odometry_usable = repeated * 10 < odometry_records.size();
+    // The same holds for the scans' own stamps: ODOM is interpolated at them.
+    std::size_t scans_repeated = 0;
+    for (std::size_t i = 1; i < raw_scans.size(); ++i) {
+      scans_repeated += raw_scans[i].input.scan.stamp_s == raw_scans[i - 1].input.scan.stamp_s;
+    }
+    odometry_usable &= scans_repeated * 10 < raw_scans.size();
+  }
+  if (odometry_usable) {
+    bool moves = false;
+    for (const auto& record : odometry_records) {
+      moves |= (record.pose.vector() - odometry_records.front().pose.vector()).norm() > 1e-9;
+    }
+    odometry_usable = moves;
+  }
+  log.odom_records_used = odometry_usable;
+  if (odometry_usable) {
+    for (const auto& record : odometry_records) odometry.Add(record.stamp_s, record.pose);
+  }
+  log.odometry = std::move(odometry_records);
 
   // The no-return value: a saturated maximum reading.
   double no_return = options.no_return_range_m;

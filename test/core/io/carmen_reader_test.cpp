@@ -99,6 +99,17 @@ TEST(CarmenReader, MalformedLinesNameTheLine) {
   EXPECT_FALSE(ReadCarmenLog("/nonexistent/log.clf").ok());
 }
 
+TEST(CarmenReader, PlaceholderOdomRecordsFallBackToTheLineOdometry) {
+  // ODOM records that never move (a log writer's placeholders): the FLASER odometry is used.
+  std::string text = "ODOM 0 0 0 0 0 0 1.0 h 0\nODOM 0 0 0 0 0 0 3.0 h 0\n";
+  text += Flaser(180, 2.0, 2.0, "5 1 0.5", "0.7 0.2 0.1");
+  const auto log = ParseCarmenLog(text, "placeholder.log");
+  ASSERT_TRUE(log.ok()) << log.status().message();
+  EXPECT_FALSE(log->odom_records_used);
+  EXPECT_NEAR(log->scans[0].odom_T_base.x(), 0.7, 1e-12);
+  EXPECT_EQ(log->scans_with_line_odometry, 1u);
+}
+
 TEST(CarmenReader, SortsRecordsByTime) {
   std::string text = Flaser(180, 2.0, 20.0, "0 0 0", "0 0 0");
   text += Flaser(180, 2.0, 10.0, "0 0 0", "0 0 0");

@@ -34,6 +34,8 @@ struct CarmenLog {
   double no_return_range_m = 0.0;  // the value used (0 if the log has none)
   std::uint64_t readings_no_return = 0;
   std::uint64_t scans_with_line_odometry = 0;  // scans placed by their own pose fields
+  // False when the ODOM records are placeholders (no motion, or no advancing stamps).
+  bool odom_records_used = false;
   // False when the laser and robot pose fields disagree from line to line (a corrected log):
   // the offset is then taken as identity.
   bool laser_offset_from_log = true;
