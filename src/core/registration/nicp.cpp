@@ -85,15 +85,17 @@ class PointGrid {
   }
 
  private:
-  static std::int64_t Pack(long x, long y) {
-    return (static_cast<std::int64_t>(x) << 32) ^ (static_cast<std::int64_t>(y) & 0xffffffff);
+  // Two 32-bit cell coordinates in one key (shifted as unsigned: negative cells are common).
+  static std::uint64_t Pack(long x, long y) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) |
+           static_cast<std::uint32_t>(y);
   }
-  std::int64_t Key(const Eigen::Vector2d& p) const {
+  std::uint64_t Key(const Eigen::Vector2d& p) const {
     return Pack(static_cast<long>(std::floor(p.x() / cell_m_)),
                 static_cast<long>(std::floor(p.y() / cell_m_)));
   }
   double cell_m_;
-  std::unordered_map<std::int64_t, std::vector<int>> cells_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
 }  // namespace
