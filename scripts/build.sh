@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the package in a catkin workspace at build_ws/ inside the repository (gitignored), whose
 # src/longterm_mapper2d links back to the repository root. Idempotent and incremental.
-# Options: --sanitize (AddressSanitizer + UBSan, in build_ws_sanitize/), --debug.
+# Options: --sanitize (AddressSanitizer + UBSan, in .build_ws_sanitize/: a dotted name, which roslaunch skips when it searches the package folder), --debug.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Debian's ROS Python modules live in /usr/bin/python3's path, not in a pyenv interpreter.
@@ -12,7 +12,7 @@ BUILD_TYPE=Release
 EXTRA=()
 for arg in "$@"; do
   case "$arg" in
-    --sanitize) WS="$ROOT/build_ws_sanitize"; EXTRA+=(-DLTM_SANITIZE=ON); BUILD_TYPE=RelWithDebInfo ;;
+    --sanitize) WS="$ROOT/.build_ws_sanitize"; EXTRA+=(-DLTM_SANITIZE=ON); BUILD_TYPE=RelWithDebInfo ;;
     --debug) BUILD_TYPE=Debug ;;
     *) echo "build.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac

@@ -29,7 +29,7 @@ if [ $INSTALL -eq 1 ]; then bash "$ROOT/scripts/install_deps.sh" || exit 1; fi
 
 BUILD_ARGS=()
 WS="$ROOT/build_ws"
-if [ $SANITIZE -eq 1 ]; then BUILD_ARGS+=(--sanitize); WS="$ROOT/build_ws_sanitize"; fi
+if [ $SANITIZE -eq 1 ]; then BUILD_ARGS+=(--sanitize); WS="$ROOT/.build_ws_sanitize"; fi
 if ! bash "$ROOT/scripts/build.sh" "${BUILD_ARGS[@]}"; then
   echo "test.sh: build failed"
   echo "0 passed, 1 failed"

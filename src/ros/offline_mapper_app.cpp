@@ -1,6 +1,7 @@
 #include "longterm_mapper2d/ros/offline_mapper_app.h"
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <cmath>
@@ -46,9 +47,10 @@ Configuration:
   --print-config        print the effective options as YAML and exit
 Sessions:
   --load-map FILE.ltmap   start a new session on top of a saved map
-  --initial-pose X,Y,TH   the robot's pose in the loaded map at the first scan (default: the pose
-                          of the loaded map's first node, the docking-station case)
+  --initial-pose X,Y,TH   the robot's pose in the loaded map at the first scan (default: where the
+                          map's first session started, the docking-station case)
   --save-map FILE.ltmap   save the session map at the end (atomic)
+  --no-maintenance        keep every node (no merging of revisited local maps), for comparison
 Output:
   --trajectory FILE     `stamp x y theta` per input scan: base in the map frame, final estimate
   --stats FILE.json     scans read/processed/skipped, wall time, peak RSS, time per stage
@@ -67,6 +69,7 @@ struct Arguments {
   std::string save_map;
   std::optional<Pose2> initial_pose;
   bool print_config = false;
+  bool no_maintenance = false;
   BagReaderOptions bag;
 };
 
@@ -128,6 +131,8 @@ std::string Parse(int argc, char** argv, Arguments& args, bool& help) {
       if (ok) args.initial_pose = Pose2(x, y, theta);
     } else if (arg == "--print-config") {
       args.print_config = true;
+    } else if (arg == "--no-maintenance") {
+      args.no_maintenance = true;
     } else {
       return "unknown option '" + arg + "'";
     }
@@ -208,6 +213,7 @@ int RunOfflineMapper(int argc, char** argv) {
       return 2;
     }
   }
+  if (args.no_maintenance) options.maintenance.enabled = false;
   if (args.print_config) {
     std::cout << OptionsToYaml(options) << "\n";
     return 0;
@@ -282,8 +288,8 @@ int RunOfflineMapper(int argc, char** argv) {
   mapper.Finish();
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  const JsonObject stats = StatsJson(mapper, wall_s, last_stamp - first_stamp, source, io_times,
-                                     scans_read, scans_without_odometry);
+  JsonObject stats = StatsJson(mapper, wall_s, last_stamp - first_stamp, source, io_times,
+                               scans_read, scans_without_odometry);
 
   int exit_code = 0;
   auto report = [&](const Status& s) {
@@ -292,9 +298,16 @@ int RunOfflineMapper(int argc, char** argv) {
       exit_code = 1;
     }
   };
+  if (!args.save_map.empty()) {
+    const Status saved = SaveSessionMap(mapper.ExportSession(), args.save_map);
+    report(saved);
+    struct stat info {};
+    if (saved.ok() && ::stat(args.save_map.c_str(), &info) == 0) {
+      stats.Add("map_file_bytes", static_cast<std::uint64_t>(info.st_size));
+    }
+  }
   if (!args.trajectory.empty()) report(WriteTrajectory(args.trajectory, mapper.Trajectory()));
   if (!args.stats.empty()) report(WriteFileAtomically(args.stats, stats.ToString() + "\n"));
-  if (!args.save_map.empty()) report(SaveSessionMap(mapper.ExportSession(), args.save_map));
   if (!args.output_dir.empty()) {
     report(WriteMapOutputs(mapper, args.output_dir));
     report(WriteFileAtomically(args.output_dir + "/stats.json", stats.ToString() + "\n"));

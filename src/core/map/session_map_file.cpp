@@ -62,6 +62,7 @@ std::string SerializeSessionMap(const SessionMap& map) {
   BinaryWriter payload;
   payload.Write<std::int32_t>(map.sessions);
   payload.Write<std::int64_t>(map.gauge);
+  WritePose(payload, map.origin);
   payload.Write<std::uint64_t>(map.nodes.size());
   for (const auto& [id, node] : map.nodes) {
     payload.Write<std::int64_t>(node.id);
@@ -138,6 +139,7 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
   std::uint64_t node_count = 0;
   r.Read(sessions, "session count");
   r.Read(gauge, "gauge");
+  if (version >= 2) ReadPose(r, map.origin, "origin");
   // A node takes at least 8 + 4 + 8 + 24 + 8 + 8 bytes.
   r.ReadCount(node_count, 60, "nodes");
   map.sessions = sessions;
@@ -207,6 +209,7 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
   if (!r.ok()) return fail(r.status().message());
   if (r.remaining() != 0) return fail("unexpected bytes after the edges");
   if (!map.nodes.empty() && !map.nodes.count(map.gauge)) return fail("the gauge node is missing");
+  if (version < 2 && !map.nodes.empty()) map.origin = map.nodes.begin()->second.map_T_node;
   return map;
 }
 

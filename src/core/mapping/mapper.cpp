@@ -12,7 +12,9 @@ namespace longterm_mapper2d {
 Mapper::Mapper(const MapperOptions& options)
     : options_(options),
       tracker_(options),
-      loop_closer_(options.loop_closing, options.registration) {}
+      loop_closer_(options.loop_closing, options.registration),
+      local_map_merger_(options.maintenance, options.merger, options.registration,
+                        options.cloud.max_range_m) {}
 
 Pose2 Mapper::MapTTracker() const {
   if (!last_node_) return map_T_tracker_start_;
@@ -117,6 +119,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   node.session_id = session_id_;
   node.stamp_s = stamp_s;
   node.map_T_node = MapTTracker() * tracker_T_base;
+  if (!origin_) origin_ = node.map_T_node;
   const Pose2 node_T_tracker = tracker_T_base.inverse();
   node.cloud = Transform(node_T_tracker, tracker_.local_map());
   for (PendingWaypoint& w : pending_waypoints_) {
@@ -194,6 +197,8 @@ void Mapper::CloseLoops(NodeId node, bool force) {
   const std::vector<GraphEdge> closures = loop_closer_.Vote(graph_, force, stats_);
   for (const GraphEdge& edge : closures) graph_.AddEdge(edge);
   if (!closures.empty()) OptimizeGraph(options_.loop_closing.optimizer_iterations);
+  QueueMerges(closures);
+  MergeReadySets();
 }
 
 bool Mapper::OptimizeNow() {
@@ -283,7 +288,8 @@ Status Mapper::LoadSession(const SessionMap& map, const std::optional<Pose2>& in
   nodes_ = map.nodes;
   session_id_ = map.sessions;
   next_node_id_ = map.nodes.rbegin()->first + 1;
-  const Pose2 start = initial_pose ? *initial_pose : map.nodes.begin()->second.map_T_node;
+  origin_ = map.origin;
+  const Pose2 start = initial_pose ? *initial_pose : map.origin;
   initial_map_T_base_ = start;
   // The session hangs off the loaded node nearest to where it starts.
   double best = std::numeric_limits<double>::infinity();
@@ -304,6 +310,7 @@ SessionMap Mapper::ExportSession() const {
   map.nodes = nodes_;
   map.edges = graph_.edges();
   map.gauge = graph_.gauge().value_or(nodes_.empty() ? 0 : nodes_.begin()->first);
+  map.origin = origin_.value_or(Pose2());
   return map;
 }
 

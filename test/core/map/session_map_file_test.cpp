@@ -86,7 +86,7 @@ TEST(SessionMapFile, CorruptionAndNewerVersionsAreRefused) {
     EXPECT_FALSE(ParseSessionMap(corrupt, "bad.ltmap").ok()) << "byte " << at;
   }
   std::string newer = bytes;
-  newer[8] = 2;  // version field
+  newer[8] = static_cast<char>(kSessionMapVersion + 1);  // version field
   const auto parsed = ParseSessionMap(newer, "new.ltmap");
   ASSERT_FALSE(parsed.ok());
   EXPECT_NE(parsed.status().message().find("newer"), std::string::npos);
@@ -108,6 +108,28 @@ TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
   const auto parsed = ParseSessionMap(file.bytes(), "huge.ltmap");
   ASSERT_FALSE(parsed.ok());
   EXPECT_NE(parsed.status().message().find("implausible count"), std::string::npos);
+}
+
+TEST(SessionMapFile, VersionOneFilesLoadWithTheFirstNodeAsOrigin) {
+  SessionMap map = SmallMap();
+  map.origin = Pose2(7.0, 8.0, 0.5);
+  const std::string v2 = SerializeSessionMap(map);
+  // Version 1: the same payload without the origin (24 bytes after sessions and gauge).
+  constexpr std::size_t kHeader = 24, kOriginAt = kHeader + 4 + 8;
+  const std::string body = v2.substr(kHeader, kOriginAt - kHeader) + v2.substr(kOriginAt + 24);
+  BinaryWriter file;
+  file.WriteBytes("LTMAP2D\n");
+  file.Write<std::uint32_t>(1);
+  file.Write<std::uint64_t>(body.size());
+  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
+  file.WriteBytes(body);
+  const auto parsed = ParseSessionMap(file.bytes(), "old.ltmap");
+  ASSERT_TRUE(parsed.ok()) << parsed.status().message();
+  EXPECT_EQ(parsed->nodes.size(), map.nodes.size());
+  EXPECT_NEAR(parsed->origin.x(), map.nodes.begin()->second.map_T_node.x(), 1e-12);
+  EXPECT_NEAR(parsed->origin.y(), map.nodes.begin()->second.map_T_node.y(), 1e-12);
+  // Version 2 keeps its own origin.
+  EXPECT_NEAR(ParseSessionMap(v2, "new.ltmap")->origin.x(), 7.0, 1e-12);
 }
 
 TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
@@ -11,15 +13,23 @@ struct SessionResult {
   SessionMap map;
   double max_error_m = 0.0;
   int session_id = -1;
+  std::uint64_t merges = 0;
 };
 
+MapperOptions WithMaintenance(bool enabled) {
+  MapperOptions options;
+  options.maintenance.enabled = enabled;
+  return options;
+}
+
 // Maps one simulated session of the small room, optionally on top of a saved map.
-SessionResult MapSession(const World& world, int session, const SessionMap* previous) {
+SessionResult MapSession(const World& world, int session, const SessionMap* previous,
+                         const MapperOptions& options = MapperOptions{}) {
   SimulationOptions simulation;
   simulation.duration_s = 60.0;
   SessionSimulator simulator(world, session, simulation, 40 + session);
   const auto steps = simulator.Run();
-  Mapper mapper(MapperOptions{});
+  Mapper mapper(options);
   if (previous) {
     EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
   }
@@ -40,6 +50,8 @@ SessionResult MapSession(const World& world, int session, const SessionMap* prev
   }
   result.session_id = mapper.session_id();
   result.map = mapper.ExportSession();
+  const auto merges = mapper.stats().counters.find("merges");
+  result.merges = merges == mapper.stats().counters.end() ? 0 : merges->second;
   return result;
 }
 
@@ -52,7 +64,7 @@ TEST(MultiSession, ASecondSessionContinuesTheMapAndClosesLoopsWithIt) {
   // Through the file, as between days.
   const auto reloaded = ParseSessionMap(SerializeSessionMap(first.map), "session1.ltmap");
   ASSERT_TRUE(reloaded.ok());
-  const SessionResult second = MapSession(*world, 2, &*reloaded);
+  const SessionResult second = MapSession(*world, 2, &*reloaded, WithMaintenance(false));
   EXPECT_EQ(second.session_id, 1);
   EXPECT_EQ(second.map.sessions, 2);
   // The robot starts at the docking pose (the first node of session 1) and is tracked in the
@@ -75,6 +87,31 @@ TEST(MultiSession, ASecondSessionContinuesTheMapAndClosesLoopsWithIt) {
     cross_closures += a != b;
   }
   EXPECT_GT(cross_closures, 0);
+}
+
+TEST(MultiSession, MaintenanceKeepsTheGraphTheSizeOfTheRoom) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  std::size_t nodes[2][3];
+  for (int maintained = 0; maintained < 2; ++maintained) {
+    std::optional<SessionMap> previous;
+    for (int session = 1; session <= 3; ++session) {
+      const SessionResult result = MapSession(*world, session, previous ? &*previous : nullptr,
+                                              WithMaintenance(maintained == 1));
+      // Still tracked in the frame of the first session, merges or not.
+      EXPECT_LT(result.max_error_m, 0.05) << "session " << session << " maintenance " << maintained;
+      nodes[maintained][session - 1] = result.map.nodes.size();
+      if (maintained && session > 1) EXPECT_GT(result.merges, 0u);
+      if (!maintained) EXPECT_EQ(result.merges, 0u);
+      // Every node's edges still join existing nodes; the condensed ones remember their kind.
+      for (const GraphEdge& e : result.map.edges) {
+        EXPECT_TRUE(result.map.nodes.count(e.from) && result.map.nodes.count(e.to));
+      }
+      previous = ParseSessionMap(SerializeSessionMap(result.map), "session.ltmap").value();
+    }
+  }
+  EXPECT_GT(nodes[0][2], 2.5 * nodes[0][0]);  // without maintenance: grows with every session
+  EXPECT_LT(nodes[1][2], 1.5 * nodes[1][0]) << nodes[1][0] << " -> " << nodes[1][2];
 }
 
 TEST(MultiSession, LoadingAfterTheFirstScanIsRefused) {

@@ -8,6 +8,7 @@
 #include "longterm_mapper2d/core/config/input_options.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closing_options.h"
+#include "longterm_mapper2d/core/mapping/maintenance_options.h"
 #include "longterm_mapper2d/core/mapping/tracker_options.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
 #include "longterm_mapper2d/core/config/option_errors.h"
@@ -26,6 +27,7 @@ struct MapperOptions {
   SessionOptions session;
   LoopClosingOptions loop_closing;
   OptimizerOptions optimizer;
+  MaintenanceOptions maintenance;
   GridOptions grid;
 
   template <class V>
@@ -38,6 +40,7 @@ struct MapperOptions {
     v.Section("session", session);
     v.Section("loop_closing", loop_closing);
     v.Section("optimizer", optimizer);
+    v.Section("maintenance", maintenance);
     v.Section("grid", grid);
   }
   void Validate(OptionErrors& e) const {
@@ -49,6 +52,7 @@ struct MapperOptions {
     e.Section("session", session);
     e.Section("loop_closing", loop_closing);
     e.Section("optimizer", optimizer);
+    e.Section("maintenance", maintenance);
     e.Section("grid", grid);
   }
 };

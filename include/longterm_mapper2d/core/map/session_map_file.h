@@ -17,15 +17,19 @@ struct SessionMap {
   std::map<NodeId, LocalMapNode> nodes;
   std::vector<GraphEdge> edges;
   NodeId gauge = 0;
+  // Where the first session started (the docking station): the default start of later sessions.
+  // Nodes there may be merged away; this pose stays.
+  Pose2 origin;
 };
 
-// The session map file (.ltmap), version 1, little-endian:
+// The session map file (.ltmap), version 2, little-endian:
 //   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
-//   payload: int32 sessions, int64 gauge, nodes, edges (counts as uint64, values as written by
+//   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
+//   take the first node's pose), nodes, edges (counts as uint64, values as written by
 //   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle).
 // Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
 // allocation. Serialising a parsed map gives the same bytes.
-constexpr std::uint32_t kSessionMapVersion = 1;
+constexpr std::uint32_t kSessionMapVersion = 2;
 std::string SerializeSessionMap(const SessionMap& map);
 StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
 

@@ -10,6 +10,7 @@
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 #include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/local_map.h"
+#include "longterm_mapper2d/core/mapping/local_map_merger.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
 #include "longterm_mapper2d/core/mapping/tracker.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
@@ -42,8 +43,8 @@ class Mapper {
   bool OptimizeNow();
 
   // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
-  // is at `initial_pose` in the loaded map's frame at the first scan (default: the pose of the
-  // loaded map's first node, the docking-station case). Node ids continue.
+  // is at `initial_pose` in the loaded map's frame at the first scan (default: where the map's
+  // first session started, the docking-station case). Node ids continue.
   Status LoadSession(const SessionMap& map, const std::optional<Pose2>& initial_pose);
   // Everything a later session needs (call after Finish()).
   SessionMap ExportSession() const;
@@ -84,6 +85,12 @@ class Mapper {
   // Loop closing for a new node, then optimisation if closures were accepted.
   void CloseLoops(NodeId node, bool force);
   void OptimizeGraph(int max_iterations);
+  // Long-term maintenance (mapper_maintenance.cpp): pairs joined by accepted closures wait in a
+  // queue until no pending closure candidate touches them; then each connected set merges into
+  // its newest node and the older nodes are removed with condensed edges.
+  void QueueMerges(const std::vector<GraphEdge>& closures);
+  void MergeReadySets();
+  void MergeSet(const std::vector<NodeId>& ids);
   // map_T_tracker for the open stretch (the last node's correction applies to it).
   Pose2 MapTTracker() const;
 
@@ -97,6 +104,8 @@ class Mapper {
   std::optional<Pose2> initial_map_T_base_;
   Pose2 map_T_tracker_start_;
   std::optional<NodeId> session_anchor_;
+  // Where the first session of the map started (SessionMap::origin).
+  std::optional<Pose2> origin_;
 
   // Tracking state.
   bool has_last_processed_ = false;
@@ -113,6 +122,8 @@ class Mapper {
   std::vector<OdometryEdge> edges_;
   PoseGraph graph_;
   LoopCloser loop_closer_;
+  LocalMapMerger local_map_merger_;
+  std::vector<std::pair<NodeId, NodeId>> merge_queue_;
   NodeId next_node_id_ = 0;
   std::optional<NodeId> last_node_;
 

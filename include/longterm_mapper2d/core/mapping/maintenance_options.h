@@ -1,0 +1,55 @@
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "longterm_mapper2d/core/config/option_errors.h"
+
+namespace longterm_mapper2d {
+
+// Long-term maintenance (ALGORITHMS.md §9): local maps joined by an accepted loop closure merge
+// into the newest one, the older node is removed, and condensed edges keep what it said.
+struct MaintenanceOptions {
+  bool enabled = true;
+  // "local": marginals of the removed nodes' own edges, a conservative star (§14, the default);
+  // "whole_graph": marginals from the whole graph, as the released code does.
+  std::string condensation = "local";
+  // A merged node keeps the old node's waypoints except those this close to one of its own.
+  double waypoint_merge_distance_m = 0.1;
+  double waypoint_merge_angle_rad = 0.785;  // 45 degrees
+  // Virtual scans from the new map's waypoints merge into the old map with this threshold.
+  double merge_distance_m = 0.1;
+  // Each virtual scan is first aligned to the merged cloud (nearest neighbours); the correction is
+  // applied only if the alignment validates this well.
+  bool align_virtual_scans = true;
+  double align_min_inlier_ratio = 0.8;
+  int align_min_correspondences = 100;
+  // Optimisation before and after each merge (iterations).
+  int optimizer_iterations = 5;
+
+  template <class V>
+  void Visit(V& v) {
+    v("enabled", enabled);
+    v("condensation", condensation);
+    v("waypoint_merge_distance_m", waypoint_merge_distance_m);
+    v("waypoint_merge_angle_rad", waypoint_merge_angle_rad);
+    v("merge_distance_m", merge_distance_m);
+    v("align_virtual_scans", align_virtual_scans);
+    v("align_min_inlier_ratio", align_min_inlier_ratio);
+    v("align_min_correspondences", align_min_correspondences);
+    v("optimizer_iterations", optimizer_iterations);
+  }
+  void Validate(OptionErrors& e) const {
+    e.Require(condensation == "local" || condensation == "whole_graph", "condensation",
+              "must be 'local' or 'whole_graph'");
+    e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m", "must be non-negative");
+    e.Require(waypoint_merge_angle_rad >= 0.0, "waypoint_merge_angle_rad", "must be non-negative");
+    e.Require(merge_distance_m > 0.0, "merge_distance_m", "must be positive");
+    e.Require(align_min_inlier_ratio >= 0.0 && align_min_inlier_ratio <= 1.0,
+              "align_min_inlier_ratio", "must be in [0, 1]");
+    e.Require(align_min_correspondences >= 0, "align_min_correspondences", "must be non-negative");
+    e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
+  }
+};
+
+}  // namespace longterm_mapper2d

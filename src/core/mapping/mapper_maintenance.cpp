@@ -1,0 +1,113 @@
+// Long-term maintenance of the Mapper (ALGORITHMS.md §9): merging local maps that a loop closure
+// joined, removing the older node, condensing its edges.
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "longterm_mapper2d/core/graph/condensation.h"
+#include "longterm_mapper2d/core/mapping/mapper.h"
+
+namespace longterm_mapper2d {
+
+void Mapper::QueueMerges(const std::vector<GraphEdge>& closures) {
+  if (!options_.maintenance.enabled) return;
+  for (const GraphEdge& edge : closures) {
+    merge_queue_.emplace_back(std::min(edge.from, edge.to), std::max(edge.from, edge.to));
+  }
+}
+
+void Mapper::MergeReadySets() {
+  if (merge_queue_.empty()) return;
+  // Connected sets of queued pairs.
+  std::map<NodeId, NodeId> parent;
+  auto find = [&parent](NodeId x) {
+    while (parent.at(x) != x) x = parent[x] = parent.at(parent.at(x));
+    return x;
+  };
+  for (const auto& [a, b] : merge_queue_) {
+    parent.emplace(a, a);
+    parent.emplace(b, b);
+    parent[find(a)] = find(b);
+  }
+  std::map<NodeId, std::vector<NodeId>> sets;
+  for (const auto& [id, unused] : parent) sets[find(id)].push_back(id);
+  // A set waits while a pending candidate still votes on one of its nodes.
+  std::set<NodeId> referenced;
+  for (const ClosureCandidate& c : loop_closer_.buffer()) {
+    referenced.insert(c.local);
+    referenced.insert(c.old);
+  }
+  std::vector<std::pair<NodeId, NodeId>> waiting;
+  for (auto& [root, ids] : sets) {
+    const bool busy = std::any_of(ids.begin(), ids.end(),
+                                  [&](NodeId id) { return referenced.count(id) > 0; });
+    if (busy) {
+      for (const auto& pair : merge_queue_) {
+        if (find(pair.first) == root) waiting.push_back(pair);
+      }
+      continue;
+    }
+    std::vector<NodeId> present;
+    for (NodeId id : ids) {
+      if (nodes_.count(id)) present.push_back(id);
+    }
+    if (present.size() >= 2) MergeSet(present);  // ids come sorted from the map
+  }
+  merge_queue_ = std::move(waiting);
+}
+
+void Mapper::MergeSet(const std::vector<NodeId>& ids) {
+  ScopedStageTimer timer(stats_.stage_times, "maintenance");
+  OptimizeGraph(options_.maintenance.optimizer_iterations);
+  const NodeId survivor = ids.back();
+  const std::vector<NodeId> removed(ids.begin(), ids.end() - 1);
+
+  // The graph first: if condensation refuses, nothing has changed.
+  const CondensationMode mode = options_.maintenance.condensation == "whole_graph"
+                                    ? CondensationMode::kWholeGraph
+                                    : CondensationMode::kLocal;
+  PoseGraph graph = graph_;
+  const auto report =
+      RemoveNodesCondensed(graph, removed, survivor, mode, session_id_, nodes_.at(survivor).stamp_s);
+  if (!report.ok()) {
+    ++stats_.counters["merges_refused"];
+    return;
+  }
+  // Oldest first, so the newest node ends up holding everything ("new overwrites old").
+  for (std::size_t i = 0; i + 1 < ids.size(); ++i) {
+    LocalMapNode& newer = nodes_.at(ids[i + 1]);
+    const LocalMapNode& older = nodes_.at(ids[i]);
+    const LocalMapMergeStats merged =
+        local_map_merger_.Merge(older, newer.map_T_node.Between(older.map_T_node), &newer);
+    stats_.counters["merge_virtual_scans"] += merged.virtual_scans;
+    stats_.counters["merge_virtual_scans_aligned"] += merged.aligned;
+    stats_.counters["merge_points_erased"] += merged.merge.erased + merged.merge.replaced;
+  }
+  // Scans of the removed stretches now hang off the survivor, where the graph put them.
+  const Pose2& map_T_survivor = nodes_.at(survivor).map_T_node;
+  const std::set<NodeId> gone(removed.begin(), removed.end());
+  for (TrajectoryEntry& entry : trajectory_) {
+    if (!entry.attached || !gone.count(entry.node)) continue;
+    entry.pose = map_T_survivor.Between(nodes_.at(entry.node).map_T_node) * entry.pose;
+    entry.node = survivor;
+  }
+  for (NodeId id : removed) {
+    nodes_.erase(id);
+    tracker_T_node_.erase(id);
+  }
+  edges_.erase(std::remove_if(edges_.begin(), edges_.end(),
+                              [&](const OdometryEdge& e) {
+                                return gone.count(e.from) > 0 || gone.count(e.to) > 0;
+                              }),
+               edges_.end());
+  graph_ = std::move(graph);
+  ++stats_.counters["merges"];
+  stats_.counters["nodes_removed"] += removed.size();
+  stats_.counters["condensed_edges_added"] += report.value().added_edges;
+  stats_.counters["condensed_edges_fused"] += report.value().fused_edges;
+  stats_.counters["condensed_edges_composed"] += report.value().composed_edges;
+  stats_.counters["nodes"] = nodes_.size();
+  OptimizeGraph(options_.maintenance.optimizer_iterations);
+}
+
+}  // namespace longterm_mapper2d
