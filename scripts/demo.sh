@@ -52,8 +52,8 @@ done
   echo
   echo "Per session: session_k/map.png (the map), map.pgm/.yaml (map_server format), map.ltmap"
   echo "(the session map the next session loads), trajectory.txt, stats.json, difference.png"
-  echo "(green correct, red phantom, blue missed). Nodes grow with every session: merging revisited"
-  echo "local maps (long-term maintenance) is not built yet."
+  echo "(green correct, red phantom, blue missed). Local maps that a session revisits merge into its"
+  echo "newest node and the older node is removed, so the graph stays the size of the room."
 } >> "$REPORT"
 
 echo

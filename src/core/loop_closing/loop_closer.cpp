@@ -14,11 +14,13 @@ namespace longterm_mapper2d {
 namespace {
 
 // Shortest path lengths (Euclidean edge lengths between node positions) from `source`, up to
-// `limit`.
+// `limit`, along odometry edges: nodes that a closure or a merge (condensed edges) joined are
+// still candidates, so a revisited place keeps finding its old local maps and merging them.
 std::map<GraphNodeId, double> GraphDistances(const PoseGraph& graph, GraphNodeId source,
                                              double limit) {
   std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
   for (const GraphEdge& e : graph.edges()) {
+    if (e.kind != EdgeKind::kOdometry) continue;
     adjacency[e.from].push_back(e.to);
     adjacency[e.to].push_back(e.from);
   }

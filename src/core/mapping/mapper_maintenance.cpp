@@ -5,6 +5,7 @@
 #include <set>
 
 #include "longterm_mapper2d/core/graph/condensation.h"
+#include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 
 namespace longterm_mapper2d {
@@ -59,6 +60,14 @@ void Mapper::MergeReadySets() {
 void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   ScopedStageTimer timer(stats_.stage_times, "maintenance");
   OptimizeGraph(options_.maintenance.optimizer_iterations);
+  const std::set<NodeId> members(ids.begin(), ids.end());
+  for (const GraphEdge& edge : graph_.edges()) {
+    if (edge.kind == EdgeKind::kLoopClosure && members.count(edge.from) && members.count(edge.to) &&
+        EdgeChi2(graph_, edge) > options_.maintenance.max_closure_chi2) {
+      ++stats_.counters["merges_refused_inconsistent"];
+      return;
+    }
+  }
   const NodeId survivor = ids.back();
   const std::vector<NodeId> removed(ids.begin(), ids.end() - 1);
 

@@ -14,8 +14,10 @@ struct MaintenanceOptions {
   // "local": marginals of the removed nodes' own edges, a conservative star (§14, the default);
   // "whole_graph": marginals from the whole graph, as the released code does.
   std::string condensation = "local";
-  // A merged node keeps the old node's waypoints except those this close to one of its own.
-  double waypoint_merge_distance_m = 0.1;
+  // A merged node keeps the old node's waypoints except those this close to one of its own (the
+  // released code uses 0.1 m; old raw scans near new ones would paint moved furniture back into
+  // the grid).
+  double waypoint_merge_distance_m = 0.5;
   double waypoint_merge_angle_rad = 0.785;  // 45 degrees
   // Virtual scans from the new map's waypoints merge into the old map with this threshold.
   double merge_distance_m = 0.1;
@@ -24,6 +26,9 @@ struct MaintenanceOptions {
   bool align_virtual_scans = true;
   double align_min_inlier_ratio = 0.8;
   int align_min_correspondences = 100;
+  // A merge is irreversible: a set whose closures the optimised graph does not agree with (chi2 of
+  // a closure edge above this) is not merged.
+  double max_closure_chi2 = 9.0;
   // Optimisation before and after each merge (iterations).
   int optimizer_iterations = 5;
 
@@ -37,6 +42,7 @@ struct MaintenanceOptions {
     v("align_virtual_scans", align_virtual_scans);
     v("align_min_inlier_ratio", align_min_inlier_ratio);
     v("align_min_correspondences", align_min_correspondences);
+    v("max_closure_chi2", max_closure_chi2);
     v("optimizer_iterations", optimizer_iterations);
   }
   void Validate(OptionErrors& e) const {
@@ -48,6 +54,7 @@ struct MaintenanceOptions {
     e.Require(align_min_inlier_ratio >= 0.0 && align_min_inlier_ratio <= 1.0,
               "align_min_inlier_ratio", "must be in [0, 1]");
     e.Require(align_min_correspondences >= 0, "align_min_correspondences", "must be non-negative");
+    e.Require(max_closure_chi2 > 0.0, "max_closure_chi2", "must be positive");
     e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
   }
 };
