@@ -12,7 +12,7 @@ PACKAGES=(
   libstd-msgs-dev libdiagnostic-msgs-dev libmessage-filters-dev
   python3-rostest python3-roslaunch python3-rosbag rosbash python3-rostopic python3-rosservice
   python3-tf2-ros python3-sensor-msgs python3-yaml python3-nav-msgs python3-visualization-msgs
-  python3-std-srvs python3-geometry-msgs
+  python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs
   libceres-dev libsuitesparse-dev libeigen3-dev libgtest-dev libyaml-cpp-dev libpng-dev zlib1g-dev
 )
 

@@ -32,6 +32,9 @@ Status MapperNode::Start() {
   LoadRosParams(private_nh_, "", node_options_, reader);
   LoadRosParams(private_nh_, "", mapper_options_, reader);
   if (Status s = reader.Finish(); !s.ok()) return s;
+  requested_mode_ = node_options_.mode == "localization"
+                        ? longterm_mapper2d::MapperMode::kLocalization
+                        : longterm_mapper2d::MapperMode::kMapping;
   mapper_ = std::make_unique<longterm_mapper2d::Mapper>(mapper_options_);
   if (Status s = longterm_mapper2d::MakeDirectories(node_options_.map_folder); !s.ok()) {
     return Status::Error("map_folder: " + s.message());
@@ -70,6 +73,12 @@ Status MapperNode::Start() {
   save_service_ = private_nh_.advertiseService("save_map", &MapperNode::OnSaveMap, this);
   load_service_ = private_nh_.advertiseService("load_map", &MapperNode::OnLoadMap, this);
   optimize_service_ = private_nh_.advertiseService("optimize", &MapperNode::OnOptimize, this);
+  mode_service_ = private_nh_.advertiseService("set_mode", &MapperNode::OnSetMode, this);
+  diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh_, private_nh_);
+  diagnostics_->setHardwareID("none");
+  diagnostics_->add("mapper", this, &MapperNode::Diagnose);
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
+                                       [this](const ros::TimerEvent&) { diagnostics_->update(); });
 
   worker_ = std::thread([this] { WorkerLoop(); });
   tf_timer_ = nh_.createTimer(ros::Duration(1.0 / node_options_.tf_publish_rate_hz),
@@ -88,6 +97,7 @@ Status MapperNode::StartSessionOn(const std::string& path, const std::optional<P
   if (!map.ok()) return map.status();
   auto mapper = std::make_unique<longterm_mapper2d::Mapper>(mapper_options_);
   if (Status s = mapper->LoadSession(*map, pose); !s.ok()) return s;
+  if (Status s = mapper->SetMode(requested_mode_); !s.ok()) return s;
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   mapper_ = std::move(mapper);
   loaded_map_ = std::move(*map);
@@ -182,6 +192,7 @@ void MapperNode::OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::C
     ROS_WARN("longterm_mapper2d: initial pose ignored: %s", s.message().c_str());
     return;
   }
+  mapper->SetMode(requested_mode_);  // the map is loaded, so this cannot fail
   mapper_ = std::move(mapper);
   ROS_INFO("longterm_mapper2d: the session starts at %s in the loaded map", pose.ToString().c_str());
 }
@@ -199,6 +210,7 @@ void MapperNode::WorkerLoop() {
     try {
       std::lock_guard<std::mutex> lock(mapper_mutex_);
       mapper_->AddScan(input);
+      last_scan_wall_time_ = ros::WallTime::now();
       map_T_odom_ = mapper_->map_T_odom();
     } catch (const std::exception& e) {
       ROS_ERROR_THROTTLE(5.0, "longterm_mapper2d: scan not mapped: %s", e.what());

@@ -117,7 +117,9 @@ void MapperNode::PublishMapAndGraph(const ros::TimerEvent&) {
       return it == stats.counters.end() ? 0 : it->second;
     };
     status.session_id = mapper_->session_id();
-    status.mode = "mapping";
+    status.mode = longterm_mapper2d::MapperModeName(mapper_->mode());
+    status.merges = counter("merges");
+    status.nodes_removed = counter("nodes_removed");
     status.scans_received = stats.scans_received;
     status.scans_processed = stats.scans_processed;
     status.scans_skipped = stats.TotalSkipped() + scans_refused_time_backwards_;
@@ -237,6 +239,31 @@ bool MapperNode::OnOptimize(std_srvs::Trigger::Request&, std_srvs::Trigger::Resp
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   response.success = mapper_->OptimizeNow();
   response.message = response.success ? "optimised" : "the solve was unusable; estimate kept";
+  return true;
+}
+
+bool MapperNode::OnSetMode(longterm_mapper2d::SetMode::Request& request,
+                           longterm_mapper2d::SetMode::Response& response) {
+  longterm_mapper2d::MapperMode mode;
+  if (request.mode == "mapping") {
+    mode = longterm_mapper2d::MapperMode::kMapping;
+  } else if (request.mode == "localization") {
+    mode = longterm_mapper2d::MapperMode::kLocalization;
+  } else {
+    response.success = false;
+    response.message = "unknown mode '" + request.mode + "' (mapping or localization)";
+    return true;
+  }
+  std::lock_guard<std::mutex> lock(mapper_mutex_);
+  const Status s = mapper_->SetMode(mode);
+  response.success = s.ok();
+  if (s.ok()) {
+    requested_mode_ = mode;
+    response.message = std::string("mode: ") + longterm_mapper2d::MapperModeName(mode);
+    ROS_INFO("longterm_mapper2d: %s", response.message.c_str());
+  } else {
+    response.message = s.message();
+  }
   return true;
 }
 

@@ -14,7 +14,8 @@ from nav_msgs.msg import OccupancyGrid
 from visualization_msgs.msg import MarkerArray
 
 from longterm_mapper2d.msg import MapperStatus
-from longterm_mapper2d.srv import SaveMap
+from diagnostic_msgs.msg import DiagnosticArray
+from longterm_mapper2d.srv import SaveMap, SetMode
 
 BIN_DIR = os.environ.get("LTM_BIN_DIR", "")
 WORLD = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "config", "worlds",
@@ -32,6 +33,8 @@ class MapperNodeTest(unittest.TestCase):
         cls.status = None
         cls.grid = None
         cls.graph = None
+        cls.diagnostics = None
+        rospy.Subscriber("/diagnostics", DiagnosticArray, cls._on_diagnostics)
         rospy.Subscriber("/mapper_node/status", MapperStatus, cls._on_status)
         rospy.Subscriber("/map", OccupancyGrid, cls._on_grid)
         rospy.Subscriber("/mapper_node/graph", MarkerArray, cls._on_graph)
@@ -47,6 +50,12 @@ class MapperNodeTest(unittest.TestCase):
     @classmethod
     def _on_status(cls, msg):
         cls.status = msg
+
+    @classmethod
+    def _on_diagnostics(cls, msg):
+        for status in msg.status:
+            if status.name.endswith("mapper"):
+                cls.diagnostics = status
 
     @classmethod
     def _on_grid(cls, msg):
@@ -115,6 +124,28 @@ class MapperNodeTest(unittest.TestCase):
         self.assertFalse(bad.success)
         before = self.status.scans_received
         self.wait_for(lambda: self.status.scans_received > before, 30, "more scans after a failure")
+
+        # /diagnostics reports the mapper with its counters.
+        self.wait_for(lambda: self.diagnostics is not None, 10, "/diagnostics")
+        values = {kv.key: kv.value for kv in self.diagnostics.values}
+        self.assertEqual(values["mode"], "mapping")
+        self.assertGreater(int(values["scans processed"]), 0)
+
+        # Localization freezes the map while scans keep coming; mapping resumes it.
+        set_mode = rospy.ServiceProxy("/mapper_node/set_mode", SetMode)
+        rospy.wait_for_service("/mapper_node/set_mode", 10)
+        self.assertFalse(set_mode("exploring").success)
+        response = set_mode("localization")
+        self.assertTrue(response.success, response.message)
+        self.wait_for(lambda: self.status.mode == "localization", 10, "~status in localization")
+        nodes = self.status.nodes
+        processed = self.status.scans_processed
+        self.wait_for(lambda: self.status.scans_processed > processed + 20, 30,
+                      "scans tracked in localization")
+        self.assertEqual(self.status.nodes, nodes)
+        response = set_mode("mapping")
+        self.assertTrue(response.success, response.message)
+        self.wait_for(lambda: self.status.mode == "mapping", 10, "~status back in mapping")
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -21,6 +22,7 @@
 
 #include "longterm_mapper2d/LoadMap.h"
 #include "longterm_mapper2d/SaveMap.h"
+#include "longterm_mapper2d/SetMode.h"
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/sensor/odometry_buffer.h"
@@ -60,6 +62,10 @@ class MapperNode {
   bool OnLoadMap(longterm_mapper2d::LoadMap::Request& request,
                  longterm_mapper2d::LoadMap::Response& response);
   bool OnOptimize(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool OnSetMode(longterm_mapper2d::SetMode::Request& request,
+                 longterm_mapper2d::SetMode::Response& response);
+  // /diagnostics (mapper_node_diagnostics.cpp).
+  void Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
   // A service path inside the map folder; absolute paths are taken as they are, ".." is refused.
   longterm_mapper2d::StatusOr<std::string> ResolvePath(const std::string& path) const;
 
@@ -98,8 +104,14 @@ class MapperNode {
   ros::Subscriber initial_pose_subscriber_;
   ros::Publisher map_publisher_, map_metadata_publisher_, graph_publisher_, local_map_publisher_,
       map_cloud_publisher_, trajectory_publisher_, status_publisher_;
-  ros::ServiceServer save_service_, load_service_, optimize_service_;
-  ros::Timer tf_timer_, map_timer_;
+  ros::ServiceServer save_service_, load_service_, optimize_service_, mode_service_;
+  ros::Timer tf_timer_, map_timer_, diagnostics_timer_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  // The mode the user asked for; a map loaded later starts in it too.
+  longterm_mapper2d::MapperMode requested_mode_ = longterm_mapper2d::MapperMode::kMapping;
+  // For /diagnostics: what changed since the last report.
+  ros::WallTime last_scan_wall_time_;
+  std::uint64_t diagnosed_dropped_ = 0, diagnosed_tracker_failures_ = 0;
   ros::Time last_tf_stamp_;
 };
 

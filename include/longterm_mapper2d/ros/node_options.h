@@ -25,6 +25,10 @@ struct NodeOptions {
   std::string map_folder = "maps";
   // A session map to continue at start-up ("" for a new map).
   std::string load_map;
+  // "mapping" or "localization" (needs load_map); ~set_mode switches later.
+  std::string mode = "mapping";
+  // /diagnostics: the scan input is stale after this long without a scan.
+  double diagnostics_scan_timeout_s = 5.0;
 
   template <class V>
   void Visit(V& v) {
@@ -39,6 +43,8 @@ struct NodeOptions {
     v("scan_queue_size", scan_queue_size);
     v("map_folder", map_folder);
     v("load_map", load_map);
+    v("mode", mode);
+    v("diagnostics_scan_timeout_s", diagnostics_scan_timeout_s);
   }
   void Validate(longterm_mapper2d::OptionErrors& e) const {
     e.Require(!scan_topic.empty(), "scan_topic", "must not be empty");
@@ -50,6 +56,10 @@ struct NodeOptions {
     e.Require(map_update_interval_s > 0.0, "map_update_interval_s", "must be positive");
     e.Require(scan_queue_size >= 1, "scan_queue_size", "must be at least 1");
     e.Require(!map_folder.empty(), "map_folder", "must not be empty");
+    e.Require(mode == "mapping" || mode == "localization", "mode",
+              "must be 'mapping' or 'localization'");
+    e.Require(mode == "mapping" || !load_map.empty(), "mode", "localization needs load_map");
+    e.Require(diagnostics_scan_timeout_s > 0.0, "diagnostics_scan_timeout_s", "must be positive");
   }
 };
 

@@ -17,12 +17,17 @@ Mapper::Mapper(const MapperOptions& options)
                         options.cloud.max_range_m) {}
 
 Pose2 Mapper::MapTTracker() const {
+  if (mode_ == MapperMode::kLocalization) return localization_map_T_tracker_;
   if (!last_node_) return map_T_tracker_start_;
   return nodes_.at(*last_node_).map_T_node * tracker_T_node_.at(*last_node_).inverse();
 }
 
 void Mapper::Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base) {
-  trajectory_.push_back({stamp_s, false, 0, tracker_T_base});
+  if (mode_ == MapperMode::kLocalization) {
+    trajectory_.push_back({stamp_s, false, true, 0, MapTTracker() * tracker_T_base});
+  } else {
+    trajectory_.push_back({stamp_s, false, false, 0, tracker_T_base});
+  }
   map_T_odom_ = MapTTracker() * tracker_T_base * odom_T_base.inverse();
 }
 
@@ -42,7 +47,7 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   if (!input.odom_T_base.IsFinite() || !input.base_T_laser.IsFinite()) {
     // Without a pose the scan cannot be placed at all.
     ++stats_.scans_skipped["non_finite_pose"];
-    if (has_last_processed_) trajectory_.push_back({input.scan.stamp_s, false, 0, last_tracker_T_base_});
+    if (has_last_processed_) Record(input.scan.stamp_s, last_tracker_T_base_, last_odom_T_base_);
     return ScanOutcome::kSkipped;
   }
   if (!input.scan.ValidateGeometry().ok()) return skip("invalid_geometry");
@@ -64,6 +69,8 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   if (!has_last_processed_ && initial_map_T_base_) {
     // The tracker frame is the odometry frame; place it so the robot starts at the initial pose.
     map_T_tracker_start_ = *initial_map_T_base_ * tracker_T_base.inverse();
+    localization_map_T_tracker_ = map_T_tracker_start_;
+    last_localization_tracker_T_base_ = tracker_T_base;
   }
   if (!tracker_.initialized()) {
     tracker_.Reset(input, tracker_T_base, stats_);
@@ -87,6 +94,10 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   last_odom_T_base_ = input.odom_T_base;
   last_tracker_T_base_ = tracker_T_base;
   Record(input.scan.stamp_s, tracker_T_base, input.odom_T_base);
+  if (mode_ == MapperMode::kLocalization) {
+    MaybeLocalize(tracker_T_base);
+    return ScanOutcome::kProcessed;
+  }
   MaybeAddWaypoint(input, tracker_T_base);
 
   if (!last_node_) {
@@ -127,6 +138,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   }
   pending_waypoints_.clear();
   for (std::size_t i = first_pending_entry_; i < trajectory_.size(); ++i) {
+    if (trajectory_[i].in_map) continue;
     trajectory_[i].pose = node_T_tracker * trajectory_[i].pose;
     trajectory_[i].attached = true;
     trajectory_[i].node = node.id;
@@ -225,14 +237,17 @@ void Mapper::Finish() {
   if (!pending_waypoints_.empty()) {
     CreateNode(trajectory_.back().stamp_s, last_tracker_T_base_, stretch_after_failure_);
   }
-  // A last vote on whatever closures are still pending, then a full optimisation.
-  if (options_.loop_closing.enabled && last_node_) {
+  // A last vote on whatever closures are still pending, then a full optimisation (not in
+  // localization: the map stays as it was).
+  if (options_.loop_closing.enabled && last_node_ && mode_ == MapperMode::kMapping) {
     CloseLoops(*last_node_, true);
     OptimizeGraph(options_.optimizer.max_iterations);
   }
   // Scans after the last node (skipped ones) are attached to it.
+  if (!last_node_) return;
   const Pose2 node_T_tracker = tracker_T_node_.at(*last_node_).inverse();
   for (std::size_t i = first_pending_entry_; i < trajectory_.size(); ++i) {
+    if (trajectory_[i].in_map) continue;
     trajectory_[i].pose = node_T_tracker * trajectory_[i].pose;
     trajectory_[i].attached = true;
     trajectory_[i].node = *last_node_;
@@ -245,8 +260,9 @@ std::vector<StampedPose2> Mapper::Trajectory() const {
   trajectory.reserve(trajectory_.size());
   const Pose2 map_T_tracker = MapTTracker();
   for (const auto& entry : trajectory_) {
-    const Pose2 pose = entry.attached ? nodes_.at(entry.node).map_T_node * entry.pose
-                                      : map_T_tracker * entry.pose;
+    const Pose2 pose = entry.in_map     ? entry.pose
+                       : entry.attached ? nodes_.at(entry.node).map_T_node * entry.pose
+                                        : map_T_tracker * entry.pose;
     trajectory.push_back({entry.stamp_s, pose});
   }
   return trajectory;

@@ -1,6 +1,7 @@
 // simulate_world: simulated multi-session bags with ground truth, from a world file.
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <boost/make_shared.hpp>
 #include <rosbag/bag.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sys/stat.h>
@@ -71,7 +72,15 @@ int WriteSession(const World& world, int session, const SimulationOptions& optio
     tf2_msgs::TFMessage statics;
     statics.transforms.push_back(
         Stamped(simulator.base_T_laser(), ros::Time(epoch), "base_link", "laser"));
-    bag.write("/tf_static", ros::Time(epoch), statics);
+    // Latched, as a live static_transform_publisher is: `rosbag play` then republishes it latched
+    // and a node that subscribes after the first message still gets the laser mount.
+    auto latched = boost::make_shared<ros::M_string>();
+    (*latched)["type"] = ros::message_traits::datatype(statics);
+    (*latched)["md5sum"] = ros::message_traits::md5sum(statics);
+    (*latched)["message_definition"] = ros::message_traits::definition(statics);
+    (*latched)["callerid"] = "/simulate_world";
+    (*latched)["latching"] = "1";
+    bag.write("/tf_static", ros::Time(epoch), statics, latched);
     for (const SimulatedStep& step : steps) {
       const ros::Time stamp(epoch + step.scan.stamp_s);
       tf2_msgs::TFMessage tf;

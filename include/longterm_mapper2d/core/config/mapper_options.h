@@ -25,6 +25,7 @@ struct MapperOptions {
   MergerOptions merger;
   TrackerOptions tracker;
   SessionOptions session;
+  LocalizationOptions localization;
   LoopClosingOptions loop_closing;
   OptimizerOptions optimizer;
   MaintenanceOptions maintenance;
@@ -38,6 +39,7 @@ struct MapperOptions {
     v.Section("merger", merger);
     v.Section("tracker", tracker);
     v.Section("session", session);
+    v.Section("localization", localization);
     v.Section("loop_closing", loop_closing);
     v.Section("optimizer", optimizer);
     v.Section("maintenance", maintenance);
@@ -50,6 +52,7 @@ struct MapperOptions {
     e.Section("merger", merger);
     e.Section("tracker", tracker);
     e.Section("session", session);
+    e.Section("localization", localization);
     e.Section("loop_closing", loop_closing);
     e.Section("optimizer", optimizer);
     e.Section("maintenance", maintenance);

@@ -20,6 +20,11 @@ namespace longterm_mapper2d {
 // What happened to one input scan.
 enum class ScanOutcome { kProcessed, kSkipped };
 
+// Mapping: the map grows and is maintained. Localization: the map is frozen and the robot is
+// tracked against it.
+enum class MapperMode { kMapping, kLocalization };
+const char* MapperModeName(MapperMode mode);
+
 // The façade of the core: everything the ROS node and the offline tools call. Feed it scans with
 // their odometry in time order; ask it for poses, the map and statistics.
 //
@@ -46,6 +51,12 @@ class Mapper {
   // is at `initial_pose` in the loaded map's frame at the first scan (default: where the map's
   // first session started, the docking-station case). Node ids continue.
   Status LoadSession(const SessionMap& map, const std::optional<Pose2>& initial_pose);
+  // Switches between mapping and localization at any time. Localization needs a map (loaded or
+  // mapped so far); the open stretch becomes a node first, so nothing mapped is lost. Back in
+  // mapping, the next scan starts a node tied to the map node nearest to the robot.
+  Status SetMode(MapperMode mode);
+  MapperMode mode() const { return mode_; }
+
   // Everything a later session needs (call after Finish()).
   SessionMap ExportSession() const;
   int session_id() const { return session_id_; }
@@ -70,8 +81,9 @@ class Mapper {
   struct TrajectoryEntry {
     double stamp_s = 0.0;
     bool attached = false;
+    bool in_map = false;  // recorded in localization: the pose is map_T_base, fixed
     NodeId node = 0;
-    Pose2 pose;  // node_T_base if attached, else tracker_T_base
+    Pose2 pose;  // node_T_base if attached, map_T_base if in_map, else tracker_T_base
   };
   struct PendingWaypoint {
     Pose2 tracker_T_base;
@@ -91,11 +103,16 @@ class Mapper {
   void QueueMerges(const std::vector<GraphEdge>& closures);
   void MergeReadySets();
   void MergeSet(const std::vector<NodeId>& ids);
+  // Localization (mapper_localization.cpp): aligns the tracker's local map to the map.
+  void MaybeLocalize(const Pose2& tracker_T_base);
   // map_T_tracker for the open stretch (the last node's correction applies to it).
   Pose2 MapTTracker() const;
 
   MapperOptions options_;
   MapperStats stats_;
+  MapperMode mode_ = MapperMode::kMapping;
+  Pose2 localization_map_T_tracker_;
+  Pose2 last_localization_tracker_T_base_;
   Tracker tracker_;
   Pose2 map_T_odom_;
   int session_id_ = 0;

@@ -82,4 +82,31 @@ struct SessionOptions {
   }
 };
 
+// Localization mode: the map is frozen and the robot is tracked against it. The tracker runs as in
+// mapping; every every_m / every_rad its local map is aligned to the nearest map nodes' clouds
+// and the map -> tracker correction follows the first alignment that validates.
+struct LocalizationOptions {
+  double every_m = 1.0;
+  double every_rad = 0.5;
+  int max_nodes = 3;             // map nodes tried, nearest first
+  double search_radius_m = 8.0;  // ... within this distance of the robot
+  double max_correction_m = 2.0; // a larger jump is refused (a symmetric place, not the robot)
+
+  template <class V>
+  void Visit(V& v) {
+    v("every_m", every_m);
+    v("every_rad", every_rad);
+    v("max_nodes", max_nodes);
+    v("search_radius_m", search_radius_m);
+    v("max_correction_m", max_correction_m);
+  }
+  void Validate(OptionErrors& e) const {
+    e.Require(every_m > 0.0, "every_m", "must be positive");
+    e.Require(every_rad > 0.0, "every_rad", "must be positive");
+    e.Require(max_nodes >= 1, "max_nodes", "must be at least 1");
+    e.Require(search_radius_m > 0.0, "search_radius_m", "must be positive");
+    e.Require(max_correction_m > 0.0, "max_correction_m", "must be positive");
+  }
+};
+
 }  // namespace longterm_mapper2d
