@@ -16,6 +16,12 @@ namespace {
 
 std::string ErrnoText() { return std::strerror(errno); }
 
+std::string FolderOf(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
 }  // namespace
 
 Status WriteFileAtomically(const std::string& path, const std::string& bytes) {
@@ -58,6 +64,13 @@ Status WriteFileAtomically(const std::string& path, const std::string& bytes) {
     const std::string reason = ErrnoText();
     ::unlink(temp_name.c_str());
     return Status::Error("cannot write '" + path + "': rename failed: " + reason);
+  }
+  // The rename must reach the disk too, or a power cut could bring back the old name (best
+  // effort: a file system may refuse to sync a folder; the data itself is already synced).
+  const int folder = ::open(FolderOf(path).c_str(), O_RDONLY | O_DIRECTORY);
+  if (folder >= 0) {
+    ::fsync(folder);
+    ::close(folder);
   }
   return Status::Ok();
 }
