@@ -207,6 +207,14 @@ void MapperNode::WorkerLoop() {
       input = std::move(queue_.front());
       queue_.pop_front();
     }
+    {
+      // The mapper skips (and counts) a scan it cannot use; say why, now and then.
+      longterm_mapper2d::LaserScan check = input.scan;
+      check.MakeCounterClockwise();
+      if (Status s = check.ValidateGeometry(); !s.ok()) {
+        ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan skipped: %s", s.message().c_str());
+      }
+    }
     try {
       std::lock_guard<std::mutex> lock(mapper_mutex_);
       mapper_->AddScan(input);

@@ -35,6 +35,8 @@ class Tokens {
     value = std::strtod(buffer, &parsed_end);
     return parsed_end == buffer + length;
   }
+  // Poses and stamps: "nan", "inf" and overflowing numbers (1e400) are malformed.
+  bool NextFinite(double& value) { return NextDouble(value) && std::isfinite(value); }
   bool NextInt(long& value) {
     double d;
     if (!NextDouble(d) || d != std::floor(d) || std::abs(d) > 1e9) return false;
@@ -87,9 +89,9 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
     if (type == "ODOM") {
       // ODOM x y theta tv rv accel timestamp hostname logger_timestamp
       double x, y, theta, tv, rv, accel, stamp;
-      if (!tokens.NextDouble(x) || !tokens.NextDouble(y) || !tokens.NextDouble(theta) ||
+      if (!tokens.NextFinite(x) || !tokens.NextFinite(y) || !tokens.NextFinite(theta) ||
           !tokens.NextDouble(tv) || !tokens.NextDouble(rv) || !tokens.NextDouble(accel) ||
-          !tokens.NextDouble(stamp)) {
+          !tokens.NextFinite(stamp)) {
         return error("malformed ODOM record (expected x y theta tv rv accel timestamp ...)");
       }
       odometry_records.push_back({stamp, Pose2(x, y, theta)});
@@ -151,9 +153,9 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
       }
     }
     double lx, ly, lt, ox, oy, ot;
-    if (!tokens.NextDouble(lx) || !tokens.NextDouble(ly) || !tokens.NextDouble(lt) ||
-        !tokens.NextDouble(ox) || !tokens.NextDouble(oy) || !tokens.NextDouble(ot)) {
-      return error(type + " record lacks its laser and robot poses");
+    if (!tokens.NextFinite(lx) || !tokens.NextFinite(ly) || !tokens.NextFinite(lt) ||
+        !tokens.NextFinite(ox) || !tokens.NextFinite(oy) || !tokens.NextFinite(ot)) {
+      return error(type + " record lacks finite laser and robot poses");
     }
     if (type == "ROBOTLASER1") {
       double ignored;
@@ -162,7 +164,7 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
       }
     }
     double stamp;
-    if (!tokens.NextDouble(stamp)) return error(type + " record lacks its timestamp");
+    if (!tokens.NextFinite(stamp)) return error(type + " record lacks a finite timestamp");
     scan.stamp_s = stamp;
     scan.frame_id = type == "RLASER" ? "rear_laser" : "laser";
     scan.range_min_m = 0.0;
@@ -170,6 +172,9 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
     // difference is where the laser sits on the robot.
     const Pose2 laser_pose(lx, ly, lt), robot_pose(ox, oy, ot);
     raw.input.base_T_laser = robot_pose.Between(laser_pose);
+    if (!raw.input.base_T_laser.IsFinite()) {
+      return error(type + " record: laser and robot poses too large");
+    }
     raw.line_odom_T_base = robot_pose;
     raw_scans.push_back(std::move(raw));
   }
@@ -258,6 +263,10 @@ StatusOr<CarmenLog> ParseCarmenLog(const std::string& text, const std::string& s
       }
     }
     const auto interpolated = odometry.Interpolate(scan.stamp_s, options.odometry_tolerance_s);
+    if (interpolated && !interpolated->IsFinite()) {
+      line_number = raw.line_number;
+      return error("odometry interpolated at the scan stamp is not finite");
+    }
     if (interpolated) {
       raw.input.odom_T_base = *interpolated;
     } else {

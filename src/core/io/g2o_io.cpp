@@ -61,7 +61,9 @@ StatusOr<PoseGraph> ParseG2o(const std::string& text, const std::string& source_
         // TORO order: I11 I12 I22 I33 I13 I23.
         I << v[3], v[4], v[7], v[4], v[5], v[8], v[7], v[8], v[6];
       }
-      edge.kind = (to - from == 1 || from - to == 1) ? EdgeKind::kOdometry : EdgeKind::kLoopClosure;
+      // Consecutive ids, written so that no difference of extreme ids can overflow.
+      const bool consecutive = (from < to && from + 1 == to) || (to < from && to + 1 == from);
+      edge.kind = consecutive ? EdgeKind::kOdometry : EdgeKind::kLoopClosure;
       edges.push_back(edge);
       ++r.edges;
     } else if (tag == "FIX") {

@@ -18,9 +18,9 @@ bool ParseFiniteDouble(const std::string& token, double& value) {
 
 }  // namespace
 
-StatusOr<std::vector<Relation>> ReadRelations(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Status::Error("cannot open relations file '" + path + "'");
+StatusOr<std::vector<Relation>> ParseRelations(const std::string& text,
+                                               const std::string& source_name) {
+  std::istringstream in(text);
   std::vector<Relation> relations;
   std::string line;
   int line_number = 0;
@@ -28,7 +28,7 @@ StatusOr<std::vector<Relation>> ReadRelations(const std::string& path) {
     ++line_number;
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    const std::string where = path + ":" + std::to_string(line_number) + ": ";
+    const std::string where = source_name + ":" + std::to_string(line_number) + ": ";
     std::istringstream fields(line);
     std::vector<std::string> tokens;
     for (std::string token; fields >> token;) tokens.push_back(token);
@@ -45,8 +45,16 @@ StatusOr<std::vector<Relation>> ReadRelations(const std::string& path) {
     }
     relations.push_back({values[0], values[1], Pose2(values[2], values[3], values[7])});
   }
-  if (in.bad()) return Status::Error("error while reading '" + path + "'");
   return relations;
+}
+
+StatusOr<std::vector<Relation>> ReadRelations(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::Error("cannot open relations file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return Status::Error("error while reading '" + path + "'");
+  return ParseRelations(text.str(), path);
 }
 
 }  // namespace longterm_mapper2d

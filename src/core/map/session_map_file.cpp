@@ -26,6 +26,11 @@ bool ReadPose(BinaryReader& r, Pose2& pose, const char* what) {
     r.Fail(std::string("non-finite ") + what);
     return false;
   }
+  // Saved angles are normalised; another one would change on the next save.
+  if (pose.theta() != theta) {
+    r.Fail(std::string("angle outside (-pi, pi] in ") + what);
+    return false;
+  }
   return true;
 }
 
@@ -176,6 +181,10 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     }
     if (r.ok() && !map.nodes.emplace(node.id, std::move(node)).second) {
       return fail("node " + std::to_string(id) + " appears twice");
+    }
+    // Saved in id order; another order would change on the next save.
+    if (r.ok() && map.nodes.rbegin()->first != id) {
+      return fail("node " + std::to_string(id) + " is out of id order");
     }
   }
   std::uint64_t edge_count = 0;

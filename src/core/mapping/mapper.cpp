@@ -32,6 +32,12 @@ void Mapper::Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& od
 }
 
 ScanOutcome Mapper::AddScan(const ScanInput& input) {
+  if (input.scan.angle_increment_rad < 0.0) {
+    ScanInput counter_clockwise = input;
+    counter_clockwise.scan.MakeCounterClockwise();
+    ++stats_.counters["scans_reversed"];
+    return AddScan(counter_clockwise);
+  }
   ++stats_.scans_received;
   const Pose2 odometry_step =
       has_last_processed_ ? last_odom_T_base_.Between(input.odom_T_base) : Pose2();

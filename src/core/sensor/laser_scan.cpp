@@ -1,5 +1,7 @@
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace longterm_mapper2d {
@@ -28,6 +30,13 @@ Status LaserScan::ValidateGeometry() const {
   }
   if (!std::isfinite(stamp_s)) return Status::Error("scan stamp is not finite");
   return Status::Ok();
+}
+
+void LaserScan::MakeCounterClockwise() {
+  if (!(angle_increment_rad < 0.0) || ranges.empty()) return;
+  angle_min_rad += angle_increment_rad * static_cast<double>(ranges.size() - 1);
+  angle_increment_rad = -angle_increment_rad;
+  std::reverse(ranges.begin(), ranges.end());
 }
 
 }  // namespace longterm_mapper2d

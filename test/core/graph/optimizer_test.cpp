@@ -278,5 +278,22 @@ TEST(Optimizer, ManhattanOlson3500ConvergesToItsGroundTruth) {
   EXPECT_LT(rmse, 0.1 * initial_rmse);
 }
 
+// Found by test/fuzz/g2o_fuzzer: telling odometry edges from loop closures computed `to - from`,
+// a signed overflow (undefined behaviour) for extreme ids such as 0 and INT64_MIN.
+TEST(G2oIo, ExtremeNodeIdsDoNotOverflow) {
+  auto graph = ParseG2o("EDGE2 0-9223372036854775808 1 0 0 0 0 0 4 0 0", "min.g2o");
+  ASSERT_TRUE(graph.ok()) << graph.status().message();
+  ASSERT_EQ(graph->edges().size(), 1u);
+  EXPECT_EQ(graph->edges()[0].kind, EdgeKind::kLoopClosure);
+  graph = ParseG2o(
+      "EDGE_SE2 9223372036854775807 9223372036854775806 1 0 0 1 0 0 1 0 1\n"
+      "EDGE_SE2 -9223372036854775807 -9223372036854775808 1 0 0 1 0 0 1 0 1\n",
+      "max.g2o");
+  ASSERT_TRUE(graph.ok()) << graph.status().message();
+  ASSERT_EQ(graph->edges().size(), 2u);
+  EXPECT_EQ(graph->edges()[0].kind, EdgeKind::kOdometry);
+  EXPECT_EQ(graph->edges()[1].kind, EdgeKind::kOdometry);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

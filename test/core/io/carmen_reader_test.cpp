@@ -118,5 +118,30 @@ TEST(CarmenReader, SortsRecordsByTime) {
   EXPECT_LT(log->scans[0].scan.stamp_s, log->scans[1].scan.stamp_s);
 }
 
+// Found by test/fuzz/carmen_fuzzer: "1e384" (also "nan", "inf") in a pose or stamp field parsed
+// as a non-finite number and gave the scan a non-finite pose. Poses so large that the laser
+// offset or the interpolated odometry overflows are refused too.
+TEST(CarmenReader, NonFinitePosesAndStampsAreMalformed) {
+  const struct {
+    const char* text;
+    const char* expected;
+  } cases[] = {
+      {"FLASER 1 6 1 2 4 9 2 1e384 1", "bad.clf:1: FLASER record lacks finite laser and robot"},
+      {"FLASER 1 1.0 0 0 0 nan 0 0 5.0 h 0\n", "bad.clf:1: FLASER record lacks finite laser"},
+      {"FLASER 1 1.0 0 0 0 0 0 0 inf h 0\n", "bad.clf:1: FLASER record lacks a finite timestamp"},
+      {"ODOM 0 nan 0 0 0 0 1.0 h 0\n", "bad.clf:1: malformed ODOM"},
+      {"FLASER 1 1.0 1e308 1e308 0.78 -1e308 -1e308 0 5.0 h 0\n",
+       "bad.clf:1: FLASER record: laser"},
+      {"ODOM 0 0 0 0 0 0 -1e308 h 0\nODOM 1 0 0 0 0 0 1e308 h 0\n"
+       "FLASER 1 1.0 0 0 0 0 0 0 0.9e308 h 0\n",
+       "bad.clf:3: odometry interpolated at the scan stamp is not finite"},
+  };
+  for (const auto& c : cases) {
+    const auto log = ParseCarmenLog(c.text, "bad.clf");
+    ASSERT_FALSE(log.ok()) << c.text;
+    EXPECT_NE(log.status().message().find(c.expected), std::string::npos) << log.status().message();
+  }
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -148,5 +148,59 @@ TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {
   std::remove(path.c_str());
 }
 
+// Found by test/fuzz/ltmap_fuzzer: files with a pose angle outside (-pi, pi] or with nodes out of
+// id order loaded (the angle normalised, the nodes sorted), so saving the loaded map changed the
+// bytes. No writer produces them; they are refused like any other corruption.
+TEST(SessionMapFile, UnnormalisedAnglesAndUnsortedNodesAreRefused) {
+  const std::string angle(
+      "LTMAP2D\n"
+      "\x02\x00\x00\x00"                   // version 2
+      "\x34\x00\x00\x00\x00\x00\x00\x00"   // payload size
+      "\x51\xca\x02\xd6"                   // CRC-32
+      "\x01\x00\x00\x00"                   // sessions
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // gauge
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // origin x
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // origin y
+      "\x00\x00\x00\x00\x00\x00\x10\x40"   // origin theta = 4.0
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // no nodes
+      "\x00\x00\x00\x00\x00\x00\x00\x00",  // no edges
+      76);
+  auto parsed = ParseSessionMap(angle, "angle.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("angle outside (-pi, pi] in origin"), std::string::npos)
+      << parsed.status().message();
+
+  const std::string header(
+      "LTMAP2D\n"
+      "\x02\x00\x00\x00"                   // version 2
+      "\xac\x00\x00\x00\x00\x00\x00\x00"   // payload size
+      "\x82\x85\x16\x0b"                   // CRC-32
+      "\x01\x00\x00\x00"                   // sessions
+      "\x01\x00\x00\x00\x00\x00\x00\x00"   // gauge
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // origin x
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // origin y
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // origin theta
+      "\x02\x00\x00\x00\x00\x00\x00\x00",  // two nodes
+      68);
+  const std::string node_2(
+      "\x02\x00\x00\x00\x00\x00\x00\x00"   // id 2
+      "\x00\x00\x00\x00"                   // session
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // stamp
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // x
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // y
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // theta
+      "\x00\x00\x00\x00\x00\x00\x00\x00"   // no points
+      "\x00\x00\x00\x00\x00\x00\x00\x00",  // no waypoints
+      60);
+  std::string node_1 = node_2;
+  node_1[0] = '\x01';
+  const std::string order = header + node_2 + node_1 + std::string(8, '\0');  // no edges
+  ASSERT_EQ(order.size(), 196u);
+  parsed = ParseSessionMap(order, "order.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("node 1 is out of id order"), std::string::npos)
+      << parsed.status().message();
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <Eigen/LU>
 #include <random>
 
@@ -169,7 +171,7 @@ TEST(Mapper, ScansGoingBackInTimeAreSkipped) {
 
 TEST(Mapper, BadScansAreSkippedWithAReasonAndKeepAPose) {
   Drive drive = MakeDrive(10, 0.12, 7);
-  drive.inputs[3].scan.angle_increment_rad = -0.01;
+  drive.inputs[3].scan.angle_increment_rad = 0.0;
   drive.inputs[5].scan.ranges.resize(10);
   for (float& r : drive.inputs[7].scan.ranges) r = std::numeric_limits<float>::quiet_NaN();
   Mapper mapper(MapperOptions{});
@@ -180,6 +182,30 @@ TEST(Mapper, BadScansAreSkippedWithAReasonAndKeepAPose) {
   const auto trajectory = mapper.Trajectory();
   ASSERT_EQ(trajectory.size(), 10u);
   for (const auto& pose : trajectory) EXPECT_TRUE(pose.pose.IsFinite());
+}
+
+TEST(Mapper, ClockwiseScansAreTurnedRoundNotSkipped) {
+  const Drive drive = MakeDrive(10, 0.12, 7);
+  Drive clockwise = drive;
+  for (auto& input : clockwise.inputs) {
+    LaserScan& scan = input.scan;
+    scan.angle_min_rad += scan.angle_increment_rad * static_cast<double>(scan.ranges.size() - 1);
+    scan.angle_increment_rad = -scan.angle_increment_rad;
+    std::reverse(scan.ranges.begin(), scan.ranges.end());
+  }
+  Mapper a(MapperOptions{}), b(MapperOptions{});
+  for (const auto& input : drive.inputs) a.AddScan(input);
+  for (const auto& input : clockwise.inputs) b.AddScan(input);
+  a.Finish();
+  b.Finish();
+  EXPECT_EQ(b.stats().counters.at("scans_reversed"), 10u);
+  EXPECT_EQ(b.stats().TotalSkipped(), a.stats().TotalSkipped());
+  const auto ta = a.Trajectory(), tb = b.Trajectory();
+  ASSERT_EQ(ta.size(), tb.size());
+  for (std::size_t i = 0; i < ta.size(); ++i) {
+    EXPECT_NEAR(ta[i].pose.x(), tb[i].pose.x(), 1e-6);
+    EXPECT_NEAR(ta[i].pose.theta(), tb[i].pose.theta(), 1e-6);
+  }
 }
 
 }  // namespace

@@ -20,5 +20,8 @@ struct Relation {
 // radians); z, roll and pitch are ignored (they are 0 in the planar datasets). Blank lines and
 // lines starting with '#' are skipped. A malformed line is an error "path:LINE: ...".
 StatusOr<std::vector<Relation>> ReadRelations(const std::string& path);
+// The same for the text of a file; errors name `source_name` instead of a path.
+StatusOr<std::vector<Relation>> ParseRelations(const std::string& text,
+                                               const std::string& source_name);
 
 }  // namespace longterm_mapper2d

@@ -27,6 +27,9 @@ struct LaserScan {
   // Checks the scan geometry (not the individual ranges): beams present, a positive increment,
   // a field of view of at most 2*pi, a sane range interval.
   Status ValidateGeometry() const;
+  // A laser that turns clockwise reports a negative angle_increment (legal in ROS): the same
+  // beams in counter-clockwise order, with angle_min at the other end.
+  void MakeCounterClockwise();
 };
 
 // One scan with what the mapper needs to place it: the odometry pose of the robot base at the
