@@ -54,9 +54,35 @@ TEST(World, ErrorsNameTheKey) {
 }
 
 TEST(World, ShippedWorldsLoad) {
-  for (const char* name : {"small_room"}) {
+  for (const char* name : {"small_room", "care_home"}) {
     const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/" + name + ".yaml");
     EXPECT_TRUE(world.ok()) << name << ": " << world.status().message();
+  }
+}
+
+TEST(World, TheCareHomeIsAFloorWithPeopleAndFurnitureThatMoves) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/care_home.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
+  for (const Segment& wall : world->walls) {
+    for (const Eigen::Vector2d& p : {wall.a_m, wall.b_m}) {
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
+  }
+  EXPECT_GE(high.x() - low.x(), 40.0);
+  EXPECT_GE(high.y() - low.y(), 30.0);
+  EXPECT_EQ(world->people.size(), 15u);
+  // Furniture differs between every pair of consecutive sessions.
+  auto signature = [&](int session) {
+    std::vector<double> values;
+    for (const Segment& s : world->StaticSegments(session)) {
+      values.insert(values.end(), {s.a_m.x(), s.a_m.y(), s.b_m.x(), s.b_m.y()});
+    }
+    return values;
+  };
+  for (int session = 1; session < 3; ++session) {
+    EXPECT_NE(signature(session), signature(session + 1)) << "sessions " << session << ", " << session + 1;
   }
 }
 
