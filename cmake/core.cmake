@@ -56,3 +56,14 @@ foreach(dir ${LTM_CORE_TEST_DIRS})
     ltm_add_gtest_dir(${dir} test_core_${module} ${LTM_TEST_SUPPORT})
   endif()
 endforeach()
+
+# A short libFuzzer run over the file parsers (scripts/fuzz.sh builds the targets in
+# test/fuzz/ with clang, ASan and UBSan; longer runs by hand: scripts/fuzz.sh --seconds 600).
+find_program(LTM_CLANGXX clang++)
+if(LTM_CLANGXX)
+  add_test(NAME fuzz_parsers
+           COMMAND bash "${CMAKE_CURRENT_SOURCE_DIR}/scripts/fuzz.sh" --seconds 10)
+  set_tests_properties(fuzz_parsers PROPERTIES LABELS fuzz TIMEOUT 900)
+else()
+  message(STATUS "clang++ not found: the fuzz test is not registered (scripts/install_deps.sh)")
+endif()

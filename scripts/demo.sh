@@ -2,18 +2,19 @@
 # The built-in demo (scripts/map.sh with no arguments): simulates sessions of a world with people
 # and furniture that moves between sessions, maps them one after another (each session loads the
 # map saved by the previous one), scores every map against that session's simulated ground truth
-# and writes OUT/report.md. Usage: demo.sh OUT_DIR [WORLD.yaml] [SESSIONS]
+# and writes OUT/report.md. Usage: demo.sh OUT_DIR [WORLD.yaml] [SESSIONS] [DURATION_S]
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-OUT="${1:?usage: demo.sh OUT_DIR [WORLD.yaml] [SESSIONS]}"
+OUT="${1:?usage: demo.sh OUT_DIR [WORLD.yaml] [SESSIONS] [DURATION_S]}"
 WORLD="${2:-$ROOT/config/worlds/small_room.yaml}"
 SESSIONS="${3:-3}"
+DURATION="${4:-240}"
 BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
 
 mkdir -p "$OUT/sim"
 echo "demo: simulating $SESSIONS sessions of $(basename "$WORLD" .yaml)"
 "$BIN/simulate_world" --world "$WORLD" --out "$OUT/sim" --sessions "$SESSIONS" --seed 1 \
-  --duration 240
+  --duration "$DURATION"
 
 REPORT="$OUT/report.md"
 {

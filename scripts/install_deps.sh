@@ -14,6 +14,7 @@ PACKAGES=(
   python3-tf2-ros python3-sensor-msgs python3-yaml python3-nav-msgs python3-visualization-msgs
   python3-std-srvs python3-geometry-msgs python3-diagnostic-msgs
   libceres-dev libsuitesparse-dev libeigen3-dev libgtest-dev libyaml-cpp-dev libpng-dev zlib1g-dev
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and maps.
-#   scripts/map.sh                      built-in demo: simulated sessions of a care-home floor
+#   scripts/map.sh                      built-in demo: three simulated sessions of a small room
+#   scripts/map.sh --world FILE.yaml [--duration S]
+#                                       the demo on another world, e.g. config/worlds/care_home.yaml
+#                                       with --duration 430 (one patrol of the care-home floor)
 #   scripts/map.sh --bag FILE [--bag FILE ...] [offline_mapper options]
 #   scripts/map.sh --carmen FILE        [offline_mapper options]
 # Results go to output/ (map .pgm/.yaml/.png, trajectory, stats).
@@ -19,6 +22,12 @@ source "$ROOT/build_ws/devel/setup.bash"
 set -u
 
 mkdir -p "$OUT"
+if [ "${1:-}" = "--world" ]; then
+  world="${2:?map.sh: --world needs a file}"
+  duration=240
+  if [ "${3:-}" = "--duration" ]; then duration="${4:?map.sh: --duration needs seconds}"; fi
+  exec bash "$ROOT/scripts/demo.sh" "$OUT" "$world" 3 "$duration"
+fi
 if [ $# -gt 0 ]; then
   name="mapped"
   "$BIN/offline_mapper" "$@" --output-dir "$OUT/$name"
