@@ -147,6 +147,39 @@ class MapperNodeTest(unittest.TestCase):
         self.assertTrue(response.success, response.message)
         self.wait_for(lambda: self.status.mode == "mapping", 10, "~status back in mapping")
 
+        # A second node started on the saved map continues it as session 1 and ties into it,
+        # fed by the bag played again (the first node refuses the replay: time went backwards).
+        saved_nodes = self.status.nodes
+        second_status = []
+        rospy.Subscriber("/mapper_node2/status", MapperStatus, second_status.append)
+        second = subprocess.Popen(
+            [os.path.join(BIN_DIR, "mapper_node"), "__name:=mapper_node2", "map:=map2",
+             "map_metadata:=map_metadata2", "_load_map:=/tmp/ltm_rostest_maps/rostest_session.ltmap",
+             "_map_folder:=/tmp/ltm_rostest_maps", "_scan_topic:=/scan",
+             "_map_update_interval_s:=1.0"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            self.wait_for(lambda: second_status and second_status[-1].session_id == 1, 30,
+                          "the second node's ~status")
+            self.player.wait(timeout=120)  # one clock at a time
+            replay = subprocess.Popen(
+                ["rosbag", "play", "--clock", "-q", "-r", "3",
+                 os.path.join(self.tmp, "session_1.bag")],
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            try:
+                self.wait_for(lambda: second_status[-1].scans_processed > 100 and
+                              second_status[-1].loop_closures_accepted + second_status[-1].merges > 0,
+                              120, "the second session to close loops with the first")
+            finally:
+                replay.terminate()
+                replay.wait()
+            last = second_status[-1]
+            self.assertEqual(last.session_id, 1)
+            self.assertGreaterEqual(last.nodes + last.nodes_removed, saved_nodes)
+        finally:
+            second.terminate()
+            second.wait()
+
 
 if __name__ == "__main__":
     rostest.rosrun("longterm_mapper2d", "mapper_node_test", MapperNodeTest)
