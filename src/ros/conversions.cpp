@@ -61,6 +61,8 @@ sensor_msgs::PointCloud2 ToRosCloud(const longterm_mapper2d::Cloud& cloud, const
   sensor_msgs::PointCloud2Modifier modifier(msg);
   modifier.setPointCloud2FieldsByString(1, "xyz");
   modifier.resize(cloud.size());
+  // The iterators take the address of the first byte: an empty cloud has none (UBSan).
+  if (cloud.empty()) return msg;
   sensor_msgs::PointCloud2Iterator<float> x(msg, "x"), y(msg, "y"), z(msg, "z");
   for (const auto& p : cloud) {
     *x = static_cast<float>(p.point_m.x());
