@@ -209,9 +209,15 @@ void MapperNode::WorkerLoop() {
     }
     {
       // The mapper skips (and counts) a scan it cannot use; say why, now and then.
-      longterm_mapper2d::LaserScan check = input.scan;
-      check.MakeCounterClockwise();
-      if (Status s = check.ValidateGeometry(); !s.ok()) {
+      // (A clockwise scan is turned round by the mapper, so only its turned copy is checked.)
+      longterm_mapper2d::LaserScan turned;
+      const longterm_mapper2d::LaserScan* check = &input.scan;
+      if (input.scan.angle_increment_rad < 0.0) {
+        turned = input.scan;
+        turned.MakeCounterClockwise();
+        check = &turned;
+      }
+      if (Status s = check->ValidateGeometry(); !s.ok()) {
         ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan skipped: %s", s.message().c_str());
       }
     }

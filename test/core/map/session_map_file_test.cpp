@@ -92,20 +92,24 @@ TEST(SessionMapFile, CorruptionAndNewerVersionsAreRefused) {
   EXPECT_NE(parsed.status().message().find("newer"), std::string::npos);
 }
 
+// A file of the given format version around a hand-made payload, with a valid size and checksum.
+std::string FileWith(std::uint32_t version, const std::string& body) {
+  BinaryWriter file;
+  file.WriteBytes("LTMAP2D\n");
+  file.Write<std::uint32_t>(version);
+  file.Write<std::uint64_t>(body.size());
+  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
+  file.WriteBytes(body);
+  return file.bytes();
+}
+
 TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
   // A valid header and checksum over a payload that claims 10^9 nodes.
   BinaryWriter payload;
   payload.Write<std::int32_t>(1);
   payload.Write<std::int64_t>(0);
   payload.Write<std::uint64_t>(1000000000ull);
-  const std::string body = payload.bytes();
-  BinaryWriter file;
-  file.WriteBytes("LTMAP2D\n");
-  file.Write<std::uint32_t>(1);
-  file.Write<std::uint64_t>(body.size());
-  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
-  file.WriteBytes(body);
-  const auto parsed = ParseSessionMap(file.bytes(), "huge.ltmap");
+  const auto parsed = ParseSessionMap(FileWith(1, payload.bytes()), "huge.ltmap");
   ASSERT_FALSE(parsed.ok());
   EXPECT_NE(parsed.status().message().find("implausible count"), std::string::npos);
 }
@@ -117,13 +121,7 @@ TEST(SessionMapFile, VersionOneFilesLoadWithTheFirstNodeAsOrigin) {
   // Version 1: the same payload without the origin (24 bytes after sessions and gauge).
   constexpr std::size_t kHeader = 24, kOriginAt = kHeader + 4 + 8;
   const std::string body = v2.substr(kHeader, kOriginAt - kHeader) + v2.substr(kOriginAt + 24);
-  BinaryWriter file;
-  file.WriteBytes("LTMAP2D\n");
-  file.Write<std::uint32_t>(1);
-  file.Write<std::uint64_t>(body.size());
-  file.Write<std::uint32_t>(Crc32(body.data(), body.size()));
-  file.WriteBytes(body);
-  const auto parsed = ParseSessionMap(file.bytes(), "old.ltmap");
+  const auto parsed = ParseSessionMap(FileWith(1, body), "old.ltmap");
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->nodes.size(), map.nodes.size());
   EXPECT_NEAR(parsed->origin.x(), map.nodes.begin()->second.map_T_node.x(), 1e-12);
