@@ -22,6 +22,7 @@ MapperNode::MapperNode(ros::NodeHandle nh, ros::NodeHandle private_nh)
     : nh_(nh), private_nh_(private_nh) {}
 
 MapperNode::~MapperNode() {
+  if (scan_spinner_) scan_spinner_->stop();
   stop_ = true;
   queue_cv_.notify_all();
   if (worker_.joinable()) worker_.join();
@@ -44,22 +45,15 @@ Status MapperNode::Start() {
   }
 
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh_);
-  const std::string target =
-      node_options_.odom_topic.empty() ? node_options_.odom_frame : node_options_.base_frame;
-  scan_subscriber_.subscribe(nh_, node_options_.scan_topic, 100);
-  scan_filter_ = std::make_unique<tf2_ros::MessageFilter<sensor_msgs::LaserScan>>(
-      scan_subscriber_, tf_buffer_, target, static_cast<uint32_t>(node_options_.scan_queue_size),
-      nh_);
-  scan_filter_->setTolerance(ros::Duration(0.0));
-  scan_filter_->registerCallback([this](const sensor_msgs::LaserScan::ConstPtr& msg) { OnScan(msg); });
-  scan_filter_->registerFailureCallback(
-      [this](const sensor_msgs::LaserScan::ConstPtr& msg,
-             tf2_ros::filter_failure_reasons::FilterFailureReason reason) {
-        OnScanDropped(msg, reason);
-      });
+  scan_nh_ = nh_;
+  scan_nh_.setCallbackQueue(&scan_callback_queue_);
+  scan_subscriber_ = scan_nh_.subscribe(node_options_.scan_topic, 100, &MapperNode::OnScan, this);
+  // A scan still waiting for its odometry when no newer scan comes is retried by this timer.
+  odometry_retry_timer_ = scan_nh_.createWallTimer(
+      ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { MapWaitingScans(false); });
   if (!node_options_.odom_topic.empty()) {
     odometry_subscriber_ =
-        nh_.subscribe(node_options_.odom_topic, 200, &MapperNode::OnOdometry, this);
+        scan_nh_.subscribe(node_options_.odom_topic, 200, &MapperNode::OnOdometry, this);
   }
   initial_pose_subscriber_ = nh_.subscribe("initialpose", 1, &MapperNode::OnInitialPose, this);
 
@@ -77,13 +71,15 @@ Status MapperNode::Start() {
   diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh_, private_nh_);
   diagnostics_->setHardwareID("none");
   diagnostics_->add("mapper", this, &MapperNode::Diagnose);
-  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0),
-                                       [this](const ros::TimerEvent&) { diagnostics_->update(); });
+  diagnostics_timer_ = nh_.createWallTimer(
+      ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { diagnostics_->update(); });
 
   worker_ = std::thread([this] { WorkerLoop(); });
+  scan_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &scan_callback_queue_);
+  scan_spinner_->start();
   tf_timer_ = nh_.createTimer(ros::Duration(1.0 / node_options_.tf_publish_rate_hz),
                               &MapperNode::PublishTransform, this);
-  map_timer_ = nh_.createTimer(ros::Duration(node_options_.map_update_interval_s),
+  map_timer_ = nh_.createWallTimer(ros::WallDuration(node_options_.map_update_interval_s),
                                &MapperNode::PublishMapAndGraph, this);
   ROS_INFO("longterm_mapper2d: mapping %s in %s (odometry %s -> %s%s)",
            nh_.resolveName(node_options_.scan_topic).c_str(), node_options_.map_frame.c_str(),
@@ -105,74 +101,6 @@ Status MapperNode::StartSessionOn(const std::string& path, const std::optional<P
   ROS_INFO("longterm_mapper2d: session %d starts on %s (%zu nodes)", mapper_->session_id(),
            path.c_str(), loaded_map_->nodes.size());
   return Status::Ok();
-}
-
-void MapperNode::OnScanDropped(const sensor_msgs::LaserScan::ConstPtr& msg,
-                               tf2_ros::filter_failure_reasons::FilterFailureReason) {
-  ++scans_dropped_no_tf_;
-  ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan at %.3f dropped: no odometry TF %s -> %s",
-                    msg->header.stamp.toSec(), node_options_.odom_frame.c_str(),
-                    msg->header.frame_id.c_str());
-}
-
-void MapperNode::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
-  geometry_msgs::Transform t;
-  t.translation.x = msg->pose.pose.position.x;
-  t.translation.y = msg->pose.pose.position.y;
-  t.rotation = msg->pose.pose.orientation;
-  std::lock_guard<std::mutex> lock(odometry_mutex_);
-  if (!odometry_.Add(msg->header.stamp.toSec(), FromRosTransform(t)).ok()) {
-    ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: odometry went back in time; restarting its buffer");
-    odometry_.Clear();
-    odometry_.Add(msg->header.stamp.toSec(), FromRosTransform(t));
-  }
-  odometry_.TrimBefore(msg->header.stamp.toSec() - 30.0);
-}
-
-void MapperNode::OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
-  try {
-    ScanInput input;
-    input.scan = FromRosScan(*msg);
-    const ros::Time stamp = msg->header.stamp;
-    if (input.scan.stamp_s < last_scan_stamp_s_) {
-      ++scans_refused_time_backwards_;
-      ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan time went backwards (%.3f < %.3f): refused; "
-                        "restart the node or load the map to start a new session",
-                        input.scan.stamp_s, last_scan_stamp_s_);
-      return;
-    }
-    if (node_options_.odom_topic.empty()) {
-      input.odom_T_base = FromRosTransform(
-          tf_buffer_.lookupTransform(node_options_.odom_frame, node_options_.base_frame, stamp)
-              .transform);
-    } else {
-      std::lock_guard<std::mutex> lock(odometry_mutex_);
-      const auto pose = odometry_.Interpolate(input.scan.stamp_s, 0.2);
-      if (!pose) {
-        ++scans_dropped_no_tf_;
-        ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: no odometry at %.3f; scan dropped",
-                          input.scan.stamp_s);
-        return;
-      }
-      input.odom_T_base = *pose;
-    }
-    input.base_T_laser = FromRosTransform(
-        tf_buffer_.lookupTransform(node_options_.base_frame, msg->header.frame_id, stamp,
-                                   ros::Duration(0.05))
-            .transform);
-    last_scan_stamp_s_ = input.scan.stamp_s;
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (static_cast<int>(queue_.size()) >= node_options_.scan_queue_size) {
-      ++scans_dropped_queue_full_;
-      ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: mapping is behind; scan dropped");
-      return;
-    }
-    queue_.push_back(std::move(input));
-    queue_cv_.notify_one();
-  } catch (const std::exception& e) {
-    ++scans_dropped_no_tf_;
-    ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan dropped: %s", e.what());
-  }
 }
 
 void MapperNode::OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
@@ -199,13 +127,18 @@ void MapperNode::OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::C
 
 void MapperNode::WorkerLoop() {
   while (!stop_) {
-    ScanInput input;
+    QueuedScan queued;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
       queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
       if (stop_) return;
-      input = std::move(queue_.front());
+      queued = std::move(queue_.front());
       queue_.pop_front();
+    }
+    const ScanInput& input = queued.input;
+    if (queued.new_session) {
+      std::lock_guard<std::mutex> lock(mapper_mutex_);
+      StartNewSessionOnCurrentMap();
     }
     {
       // The mapper skips (and counts) a scan it cannot use; say why, now and then.
@@ -230,6 +163,27 @@ void MapperNode::WorkerLoop() {
       ROS_ERROR_THROTTLE(5.0, "longterm_mapper2d: scan not mapped: %s", e.what());
     }
   }
+}
+
+void MapperNode::StartNewSessionOnCurrentMap() {
+  mapper_->Finish();
+  longterm_mapper2d::SessionMap map = mapper_->ExportSession();
+  auto mapper = std::make_unique<longterm_mapper2d::Mapper>(mapper_options_);
+  if (!map.nodes.empty()) {
+    // The map was made by this mapper and is consistent, so loading it cannot fail; if it did,
+    // mapping goes on in the old session rather than losing the map.
+    if (Status s = mapper->LoadSession(map, std::nullopt); !s.ok()) {
+      ROS_ERROR("longterm_mapper2d: no new session: %s", s.message().c_str());
+      return;
+    }
+    loaded_map_ = std::move(map);
+  }
+  mapper->SetMode(loaded_map_ ? requested_mode_ : longterm_mapper2d::MapperMode::kMapping);
+  mapper_ = std::move(mapper);
+  map_T_odom_ = mapper_->map_T_odom();
+  ++sessions_started_time_backwards_;
+  ROS_INFO("longterm_mapper2d: session %d starts on the map of the previous one (%zu nodes)",
+           mapper_->session_id(), loaded_map_ ? loaded_map_->nodes.size() : std::size_t{0});
 }
 
 }  // namespace longterm_mapper2d_ros

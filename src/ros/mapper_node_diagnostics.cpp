@@ -66,6 +66,8 @@ void MapperNode::Diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
   status.add("scans dropped (queue full)", static_cast<std::uint64_t>(scans_dropped_queue_full_));
   status.add("scans refused (time backwards)",
              static_cast<std::uint64_t>(scans_refused_time_backwards_));
+  status.add("sessions started (time backwards)",
+             static_cast<std::uint64_t>(sessions_started_time_backwards_));
   status.add("scans queued", queued);
   status.add("tracker failures", tracker_failures);
   status.add("loop closures accepted", closures);

@@ -94,7 +94,7 @@ void MapperNode::PublishTransform(const ros::TimerEvent&) {
   tf_broadcaster_.sendTransform(t);
 }
 
-void MapperNode::PublishMapAndGraph(const ros::TimerEvent&) {
+void MapperNode::PublishMapAndGraph(const ros::WallTimerEvent&) {
   std::vector<longterm_mapper2d::PosedScan> scans;
   longterm_mapper2d::PoseGraph graph;
   longterm_mapper2d::Cloud map_cloud, local_map;
@@ -237,8 +237,9 @@ bool MapperNode::OnLoadMap(longterm_mapper2d::LoadMap::Request& request,
 
 bool MapperNode::OnOptimize(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   std::lock_guard<std::mutex> lock(mapper_mutex_);
-  response.success = mapper_->OptimizeNow();
-  response.message = response.success ? "optimised" : "the solve was unusable; estimate kept";
+  const Status s = mapper_->OptimizeNow();
+  response.success = s.ok();
+  response.message = s.ok() ? "optimised" : s.message();
   return true;
 }
 

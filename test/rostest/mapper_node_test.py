@@ -38,6 +38,8 @@ class MapperNodeTest(unittest.TestCase):
         rospy.Subscriber("/mapper_node/status", MapperStatus, cls._on_status)
         rospy.Subscriber("/map", OccupancyGrid, cls._on_grid)
         rospy.Subscriber("/mapper_node/graph", MarkerArray, cls._on_graph)
+        cls.looping = []
+        rospy.Subscriber("/looping_node/status", MapperStatus, cls.looping.append)
         cls.player = subprocess.Popen(
             ["rosbag", "play", "--clock", "-q", "-r", "3", os.path.join(cls.tmp, "session_1.bag")],
             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -150,8 +152,12 @@ class MapperNodeTest(unittest.TestCase):
         # A second node started on the saved map continues it as session 1 and ties into it,
         # fed by the bag played again (the first node refuses the replay: time went backwards).
         saved_nodes = self.status.nodes
+        self.assertTrue(self.looping and self.looping[-1].session_id == 0)
+        looping_nodes = self.looping[-1].nodes
         second_status = []
         rospy.Subscriber("/mapper_node2/status", MapperStatus, second_status.append)
+        # The first play ends before the second node starts: a scan it saw would set its clock.
+        self.player.wait(timeout=120)
         second = subprocess.Popen(
             [os.path.join(BIN_DIR, "mapper_node"), "__name:=mapper_node2", "map:=map2",
              "map_metadata:=map_metadata2", "_load_map:=/tmp/ltm_rostest_maps/rostest_session.ltmap",
@@ -161,7 +167,6 @@ class MapperNodeTest(unittest.TestCase):
         try:
             self.wait_for(lambda: second_status and second_status[-1].session_id == 1, 30,
                           "the second node's ~status")
-            self.player.wait(timeout=120)  # one clock at a time
             replay = subprocess.Popen(
                 ["rosbag", "play", "--clock", "-q", "-r", "3",
                  os.path.join(self.tmp, "session_1.bag")],
@@ -176,6 +181,14 @@ class MapperNodeTest(unittest.TestCase):
             last = second_status[-1]
             self.assertEqual(last.session_id, 1)
             self.assertGreaterEqual(last.nodes + last.nodes_removed, saved_nodes)
+            # time_backwards "refuse" (the first node) stays in session 0; "new_session" (the
+            # looping node) went on as session 1 on its own map, which it still holds.
+            self.assertEqual(self.status.session_id, 0)
+            self.assertGreater(self.status.scans_skipped, 0)
+            self.wait_for(lambda: self.looping[-1].session_id == 1 and
+                          self.looping[-1].scans_processed > 50, 30, "the looping node's session 1")
+            self.assertGreaterEqual(self.looping[-1].nodes + self.looping[-1].nodes_removed,
+                                    looping_nodes)
         finally:
             second.terminate()
             second.wait()

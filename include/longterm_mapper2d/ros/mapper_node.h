@@ -1,14 +1,13 @@
 #pragma once
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
-#include <message_filters/subscriber.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/LaserScan.h>
 #include <std_srvs/Trigger.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <tf2_ros/buffer.h>
-#include <tf2_ros/message_filter.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -47,16 +46,27 @@ class MapperNode {
                                            const std::optional<longterm_mapper2d::Pose2>& pose);
 
  private:
+  // Scan intake (mapper_node_input.cpp). Scans wait, in their order of arrival, until the
+  // odometry at their stamp is known; one that waits longer than odometry_wait_s (in scan time)
+  // is dropped and counted. Stamps going backwards follow the time_backwards option.
   void OnScan(const sensor_msgs::LaserScan::ConstPtr& msg);
-  void OnScanDropped(const sensor_msgs::LaserScan::ConstPtr& msg,
-                     tf2_ros::filter_failure_reasons::FilterFailureReason reason);
   void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
+  // Hands every waiting scan whose odometry is known to the worker, in order; `arrived`: called
+  // for a new scan (else by the retry timer).
+  void MapWaitingScans(bool arrived);
+  // The scan with its odometry and laser mounting, if both are known at its stamp yet.
+  std::optional<longterm_mapper2d::ScanInput> WithOdometry(const sensor_msgs::LaserScan& msg);
+  // False if the worker's queue is full (the scan is dropped and counted).
+  bool EnqueueForWorker(longterm_mapper2d::ScanInput input, bool new_session);
   void OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg);
   void WorkerLoop();
+  // Ends the session and starts the next one on its map, the robot at the map's origin
+  // (mapper_mutex_ held).
+  void StartNewSessionOnCurrentMap();
 
   // Publishing (mapper_node_outputs.cpp).
   void PublishTransform(const ros::TimerEvent& event);
-  void PublishMapAndGraph(const ros::TimerEvent& event);
+  void PublishMapAndGraph(const ros::WallTimerEvent& event);
   bool OnSaveMap(longterm_mapper2d::SaveMap::Request& request,
                  longterm_mapper2d::SaveMap::Response& response);
   bool OnLoadMap(longterm_mapper2d::LoadMap::Request& request,
@@ -83,7 +93,13 @@ class MapperNode {
 
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
-  std::deque<longterm_mapper2d::ScanInput> queue_;
+  // A scan for the worker; new_session: its stamp went back (time_backwards: new_session), so the
+  // session ends before it and a new one starts on the map built so far.
+  struct QueuedScan {
+    longterm_mapper2d::ScanInput input;
+    bool new_session = false;
+  };
+  std::deque<QueuedScan> queue_;
   std::atomic<bool> stop_{false};
   std::thread worker_;
 
@@ -93,19 +109,34 @@ class MapperNode {
   std::atomic<std::uint64_t> scans_dropped_no_tf_{0};
   std::atomic<std::uint64_t> scans_dropped_queue_full_{0};
   std::atomic<std::uint64_t> scans_refused_time_backwards_{0};
-  double last_scan_stamp_s_ = -1.0;
+  std::atomic<std::uint64_t> sessions_started_time_backwards_{0};
 
+  // Scans and odometry have their own callback queue, served by one thread: the MessageFilter
+  // hands ready scans to its node handle's queue, and on the node's multi-threaded spinner they
+  // would run concurrently and out of order.
+  ros::CallbackQueue scan_callback_queue_;
+  ros::NodeHandle scan_nh_;
+  std::unique_ptr<ros::AsyncSpinner> scan_spinner_;
   tf2_ros::Buffer tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
-  message_filters::Subscriber<sensor_msgs::LaserScan> scan_subscriber_;
-  std::unique_ptr<tf2_ros::MessageFilter<sensor_msgs::LaserScan>> scan_filter_;
+  ros::Subscriber scan_subscriber_;
+  ros::WallTimer odometry_retry_timer_;
+  // Scans waiting for their odometry (touched by the scan callback queue's thread only).
+  std::deque<sensor_msgs::LaserScan::ConstPtr> waiting_for_odometry_;
+  double newest_scan_stamp_s_ = -1.0;
+  // Time went backwards (time_backwards: new_session): the next scan for the worker starts the
+  // new session.
+  bool new_session_pending_ = false;
   ros::Subscriber odometry_subscriber_;
   ros::Subscriber initial_pose_subscriber_;
   ros::Publisher map_publisher_, map_metadata_publisher_, graph_publisher_, local_map_publisher_,
       map_cloud_publisher_, trajectory_publisher_, status_publisher_;
   ros::ServiceServer save_service_, load_service_, optimize_service_, mode_service_;
-  ros::Timer tf_timer_, map_timer_, diagnostics_timer_;
+  ros::Timer tf_timer_;
+  // Wall-clock timers: rendering costs wall time whatever the play rate of a bag, and the outputs
+  // keep coming after a bag's clock has stopped.
+  ros::WallTimer map_timer_, diagnostics_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   // The mode the user asked for; a map loaded later starts in it too.
   longterm_mapper2d::MapperMode requested_mode_ = longterm_mapper2d::MapperMode::kMapping;

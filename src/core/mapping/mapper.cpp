@@ -219,10 +219,18 @@ void Mapper::CloseLoops(NodeId node, bool force) {
   MergeReadySets();
 }
 
-bool Mapper::OptimizeNow() {
+Status Mapper::OptimizeNow() {
+  if (mode_ != MapperMode::kMapping) {
+    return Status::Error("not in mapping mode: the map is frozen while localizing");
+  }
+  if (graph_.nodes().empty()) return Status::Error("nothing to optimise yet: the map has no node");
   const auto before = stats_.counters["optimizations_unusable"];
+  if (options_.loop_closing.enabled && last_node_) CloseLoops(*last_node_, true);
   OptimizeGraph(options_.optimizer.max_iterations);
-  return stats_.counters["optimizations_unusable"] == before;
+  if (stats_.counters["optimizations_unusable"] != before) {
+    return Status::Error("the solve was unusable; the previous estimate is kept");
+  }
+  return Status::Ok();
 }
 
 void Mapper::OptimizeGraph(int max_iterations) {

@@ -101,8 +101,12 @@ TEST(MultiSession, MaintenanceKeepsTheGraphTheSizeOfTheRoom) {
       // Still tracked in the frame of the first session, merges or not.
       EXPECT_LT(result.max_error_m, 0.05) << "session " << session << " maintenance " << maintained;
       nodes[maintained][session - 1] = result.map.nodes.size();
-      if (maintained && session > 1) EXPECT_GT(result.merges, 0u);
-      if (!maintained) EXPECT_EQ(result.merges, 0u);
+      if (maintained && session > 1) {
+        EXPECT_GT(result.merges, 0u);
+      }
+      if (!maintained) {
+        EXPECT_EQ(result.merges, 0u);
+      }
       // Every node's edges still join existing nodes; the condensed ones remember their kind.
       for (const GraphEdge& e : result.map.edges) {
         EXPECT_TRUE(result.map.nodes.count(e.from) && result.map.nodes.count(e.to));
@@ -165,6 +169,7 @@ TEST(MultiSession, ModesSwitchBothWays) {
   ASSERT_TRUE(world.ok());
   Mapper empty(MapperOptions{});
   EXPECT_FALSE(empty.SetMode(MapperMode::kLocalization).ok());  // no map yet
+  EXPECT_FALSE(empty.OptimizeNow().ok());                        // nothing to optimise
   SimulationOptions simulation;
   simulation.duration_s = 90.0;
   SessionSimulator simulator(*world, 1, simulation, 5);
@@ -173,9 +178,14 @@ TEST(MultiSession, ModesSwitchBothWays) {
   double max_error = 0.0;
   for (std::size_t i = 0; i < steps.size(); ++i) {
     if (i == steps.size() / 3) {
+      // Optimising on demand works while mapping, and is refused once the map is frozen.
+      EXPECT_TRUE(mapper.OptimizeNow().ok());
       ASSERT_TRUE(mapper.SetMode(MapperMode::kLocalization).ok());
+      EXPECT_FALSE(mapper.OptimizeNow().ok());
     }
-    if (i == 2 * steps.size() / 3) ASSERT_TRUE(mapper.SetMode(MapperMode::kMapping).ok());
+    if (i == 2 * steps.size() / 3) {
+      ASSERT_TRUE(mapper.SetMode(MapperMode::kMapping).ok());
+    }
     ScanInput input;
     input.scan = steps[i].scan;
     input.odom_T_base = steps[i].odom_T_base;

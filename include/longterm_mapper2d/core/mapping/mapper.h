@@ -43,9 +43,11 @@ class Mapper {
 
   // Ends the session: the open stretch becomes the last node.
   void Finish();
-  // Re-optimises the whole graph now (up to the optimizer's iteration limit); false if the solve
-  // was unusable and the estimate kept.
-  bool OptimizeNow();
+  // What Finish() does to the graph, without ending the session: a last vote on the pending
+  // loop-closure candidates, then the whole graph optimised (up to the optimizer's iteration
+  // limit). Refused in localization mode (the map is frozen); an error if the solve was unusable
+  // (the estimate is kept).
+  Status OptimizeNow();
 
   // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
   // is at `initial_pose` in the loaded map's frame at the first scan (default: where the map's
