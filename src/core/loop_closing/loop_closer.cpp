@@ -7,6 +7,7 @@
 #include <deque>
 #include <limits>
 #include <queue>
+#include <set>
 
 #include "longterm_mapper2d/core/graph/optimizer.h"
 
@@ -150,6 +151,21 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     }
   }
   const Pose2& pose = graph.node(node).pose;
+  std::set<GraphNodeId> tried;
+  auto align = [&](GraphNodeId old) {
+    if (!tried.insert(old).second) return;
+    if (accepted_pairs_.count({std::min(node, old), std::max(node, old)})) return;
+    ++stats.counters["loop_closure_alignments"];
+    const Pose2 guess = pose.Between(graph.node(old).pose);
+    const auto aligned =
+        AlignLocalMaps(cloud_of(node), cloud_of(old), {guess, Pose2(0.0, 0.0, guess.theta())});
+    if (!aligned) {
+      if (degenerate_) ++stats.counters["loop_closure_alignments_degenerate"];
+      return;
+    }
+    ++stats.counters["loop_closure_candidates"];
+    AddCandidate({node, old, *aligned});
+  };
   while (!remaining.empty()) {
     std::deque<GraphNodeId> queue{*remaining.begin()};
     remaining.erase(remaining.begin());
@@ -167,17 +183,14 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
         if (remaining.erase(next)) queue.push_back(next);
       }
     }
-    if (accepted_pairs_.count({std::min(node, nearest), std::max(node, nearest)})) continue;
-    ++stats.counters["loop_closure_alignments"];
-    const Pose2 guess = pose.Between(graph.node(nearest).pose);
-    const auto aligned = AlignLocalMaps(cloud_of(node), cloud_of(nearest),
-                                        {guess, Pose2(0.0, 0.0, guess.theta())});
-    if (!aligned) {
-      if (degenerate_) ++stats.counters["loop_closure_alignments_degenerate"];
-      continue;
+    align(nearest);
+  }
+  for (GraphNodeId id : candidates) {
+    const GraphNode& other = graph.node(id);
+    if (other.session_id >= graph.node(node).session_id) continue;
+    if ((other.pose.translation() - pose.translation()).norm() < options_.duplicate_radius_m) {
+      align(id);
     }
-    ++stats.counters["loop_closure_candidates"];
-    AddCandidate({node, nearest, *aligned});
   }
 }
 
@@ -205,34 +218,61 @@ std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, Mapp
       const Pose2& pose = graph.node(id).pose;
       return ages_.count(id) ? motion * pose : pose;
     };
-    int best = -1, best_inliers = 0;
+    int best = -1, best_inliers = 0, best_support = 0;
     double best_chi2 = 0.0;
-    std::vector<double> best_scores;
+    std::vector<double> best_scores, best_plain_scores;
     for (std::size_t h = 0; h < buffer_.size(); ++h) {
       const ClosureCandidate& hyp = buffer_[h];
       const Pose2 local_target = graph.node(hyp.old).pose * hyp.local_T_old.inverse();
       const Pose2 motion = local_target * graph.node(hyp.local).pose.inverse();
       int inliers = 0;
       double chi2_sum = 0.0;
-      std::vector<double> scores;
+      std::vector<double> scores, plain_scores;
+      std::set<GraphNodeId> inlier_locals, inlier_olds;
       for (const ClosureCandidate& c : buffer_) {
         const Eigen::Vector3d e =
             EdgeError(moved(c.local, motion), moved(c.old, motion), c.local_T_old);
-        const double chi2 = e.dot(information * e);
+        // The sub-map moves rigidly, but its chain has drifted between the two candidates' nodes
+        // (and the old map may have between theirs): the closure's covariance grows by the drift
+        // over that distance, so agreeing candidates a corridor apart still agree.
+        const double d = (graph.node(c.local).pose.translation() -
+                          graph.node(hyp.local).pose.translation()).norm() +
+                         (graph.node(c.old).pose.translation() -
+                          graph.node(hyp.old).pose.translation()).norm();
+        const double s_xy = options_.vote_drift_per_m * d;
+        const double s_th = options_.vote_drift_rad_per_m * d;
+        const Eigen::Vector3d information_diag(
+            1.0 / (1.0 / options_.closure_information_xy + s_xy * s_xy),
+            1.0 / (1.0 / options_.closure_information_xy + s_xy * s_xy),
+            1.0 / (1.0 / options_.closure_information_theta + s_th * s_th));
+        const double chi2 = e.dot(information_diag.asDiagonal() * e);
         scores.push_back(chi2);
+        plain_scores.push_back(e.dot(information * e));
         if (chi2 < options_.vote_inlier_chi2) {
           ++inliers;
           chi2_sum += chi2;
+          inlier_locals.insert(c.local);
+          inlier_olds.insert(c.old);
         }
       }
-      if (inliers > best_inliers || (inliers == best_inliers && chi2_sum < best_chi2)) {
+      // Candidates that share a node are not independent: two new nodes aligned to the same old
+      // local map agree with each other even when that map is a look-alike room elsewhere.
+      // The support of a hypothesis is the number of distinct nodes on its weaker side.
+      const int support = options_.vote_distinct_nodes
+                              ? static_cast<int>(std::min(inlier_locals.size(), inlier_olds.size()))
+                              : inliers;
+      if (support > best_support ||
+          (support == best_support &&
+           (inliers > best_inliers || (inliers == best_inliers && chi2_sum < best_chi2)))) {
         best = static_cast<int>(h);
+        best_support = support;
         best_inliers = inliers;
         best_chi2 = chi2_sum;
         best_scores = scores;
+        best_plain_scores = plain_scores;
       }
     }
-    if (best >= 0 && best_inliers >= options_.vote_min_inliers) {
+    if (best >= 0 && best_support >= options_.vote_min_inliers) {
       std::vector<ClosureCandidate> kept;
       for (std::size_t i = 0; i < buffer_.size(); ++i) {
         const ClosureCandidate& c = buffer_[i];
@@ -249,7 +289,7 @@ std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, Mapp
             edge.session_id = graph.node(c.local).session_id;
             accepted.push_back(edge);
           }
-        } else if (best_scores[i] < options_.vote_outlier_chi2) {
+        } else if (best_plain_scores[i] < options_.vote_outlier_chi2) {
           kept.push_back(c);  // undecided: waits for more votes
         } else {
           ++stats.counters["loop_closures_rejected"];

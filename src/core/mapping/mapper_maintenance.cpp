@@ -55,18 +55,38 @@ void Mapper::MergeReadySets() {
     if (present.size() >= 2) MergeSet(present);  // ids come sorted from the map
   }
   merge_queue_ = std::move(waiting);
+  merge_queue_.insert(merge_queue_.end(), requeued_merges_.begin(), requeued_merges_.end());
+  requeued_merges_.clear();
 }
 
 void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   ScopedStageTimer timer(stats_.stage_times, "maintenance");
   OptimizeGraph(options_.maintenance.optimizer_iterations);
   const std::set<NodeId> members(ids.begin(), ids.end());
-  for (const GraphEdge& edge : graph_.edges()) {
-    if (edge.kind == EdgeKind::kLoopClosure && members.count(edge.from) && members.count(edge.to) &&
-        EdgeChi2(graph_, edge) > options_.maintenance.max_closure_chi2) {
-      ++stats_.counters["merges_refused_inconsistent"];
-      return;
+  // A closure the optimised graph cannot satisfy is an outlier the vote let through: it leaves
+  // the graph (so it neither pulls the map nor lingers across sessions), and the pairs whose
+  // closures hold are merged on a later pass.
+  auto& edges = graph_.mutable_edges();
+  const auto before = edges.size();
+  edges.erase(std::remove_if(edges.begin(), edges.end(),
+                             [&](const GraphEdge& edge) {
+                               return edge.kind == EdgeKind::kLoopClosure &&
+                                      members.count(edge.from) && members.count(edge.to) &&
+                                      EdgeChi2(graph_, edge) >
+                                          options_.maintenance.max_closure_chi2;
+                             }),
+              edges.end());
+  if (edges.size() != before) {
+    stats_.counters["loop_closures_removed_inconsistent"] += before - edges.size();
+    ++stats_.counters["merges_refused_inconsistent"];
+    for (const GraphEdge& edge : edges) {
+      if (edge.kind == EdgeKind::kLoopClosure && members.count(edge.from) &&
+          members.count(edge.to)) {
+        requeued_merges_.emplace_back(std::min(edge.from, edge.to), std::max(edge.from, edge.to));
+      }
     }
+    OptimizeGraph(options_.maintenance.optimizer_iterations);
+    return;
   }
   const NodeId survivor = ids.back();
   const std::vector<NodeId> removed(ids.begin(), ids.end() - 1);

@@ -94,5 +94,56 @@ TEST(LoopCloser, TooFewAgreeingCandidatesWaitAndExpire) {
   EXPECT_EQ(stats.counters["loop_closures_expired"], 2u);
 }
 
+TEST(LoopCloser, CandidatesAgainstOneOldLocalMapAreOnePieceOfEvidence) {
+  // Two new nodes aligned to the same old node agree with each other even when that node is a
+  // look-alike room elsewhere: with distinct-node support they do not make a closure alone.
+  PoseGraph graph = Revisit();
+  LoopClosingOptions options;  // vote_min_inliers 2
+  MapperStats stats;
+  // New node 11 is truly at old node 1; both candidates claim it is at old node 3.
+  LoopCloser strict(options, RegistrationOptions{});
+  strict.AddCandidate({11, 3, Pose2()});
+  strict.AddCandidate({12, 3, Pose2(-2.0, 0.0, 0.0)});
+  EXPECT_TRUE(strict.Vote(graph, true, stats).empty());
+  // A second old node agreeing with them makes two distinct pieces on each side.
+  LoopCloser supported(options, RegistrationOptions{});
+  supported.AddCandidate({11, 3, Pose2()});
+  supported.AddCandidate({12, 3, Pose2(-2.0, 0.0, 0.0)});
+  supported.AddCandidate({12, 4, Pose2()});
+  EXPECT_EQ(supported.Vote(graph, true, stats).size(), 3u);
+  // Counting candidates instead (the released code's rule) accepts the pair alone.
+  options.vote_distinct_nodes = false;
+  LoopCloser counting(options, RegistrationOptions{});
+  counting.AddCandidate({11, 3, Pose2()});
+  counting.AddCandidate({12, 3, Pose2(-2.0, 0.0, 0.0)});
+  EXPECT_EQ(counting.Vote(graph, true, stats).size(), 2u);
+}
+
+TEST(LoopCloser, CandidatesAgreeUpToTheDriftBetweenThem) {
+  // The new trajectory bent by 0.3 m over the 8 m between nodes 11 and 15 (a drifting corridor):
+  // the rigid test alone (drift 0) splits the two true closures, the drift-aware one keeps them.
+  PoseGraph graph = Revisit();
+  const Pose2 bent(0.0, 0.3, 0.0);
+  LoopClosingOptions options;
+  MapperStats stats;
+  options.vote_drift_per_m = 0.0;
+  options.vote_drift_rad_per_m = 0.0;
+  LoopCloser rigid(options, RegistrationOptions{});
+  rigid.AddCandidate({11, 1, Pose2()});
+  rigid.AddCandidate({15, 5, bent});
+  EXPECT_TRUE(rigid.Vote(graph, true, stats).empty());
+  options.vote_drift_per_m = 0.05;
+  options.vote_drift_rad_per_m = 0.01;
+  LoopCloser drifting(options, RegistrationOptions{});
+  drifting.AddCandidate({11, 1, Pose2()});
+  drifting.AddCandidate({15, 5, bent});
+  EXPECT_EQ(drifting.Vote(graph, true, stats).size(), 2u);
+  // A place 6 m off is not drift: still no closure.
+  LoopCloser wrong(options, RegistrationOptions{});
+  wrong.AddCandidate({11, 1, Pose2()});
+  wrong.AddCandidate({15, 2, Pose2()});
+  EXPECT_TRUE(wrong.Vote(graph, true, stats).empty());
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

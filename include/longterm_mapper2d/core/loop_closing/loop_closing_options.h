@@ -15,6 +15,10 @@ struct LoopClosingOptions {
   // offset is shrunk by the perception range (the local maps overlap within it).
   double mahalanobis_gate = 5.99;
   double perception_range_m = 1.5;
+  // Of each connected set of candidates only the nearest is aligned, except that every node of an
+  // earlier session nearer than this is aligned too: such nodes at one place are duplicates (left
+  // by sessions whose closures there failed), and each needs its own closure to be merged away.
+  double duplicate_radius_m = 1.0;
   // Map-to-map alignment: coarse then fine correspondence distance, and validation from the new
   // node on a full-circle projector.
   double coarse_correspondence_m = 1.0;
@@ -36,6 +40,14 @@ struct LoopClosingOptions {
   int vote_min_inliers = 2;
   int vote_window = 10;
   double vote_outlier_chi2 = 500.0;
+  // Count a hypothesis' agreeing candidates as distinct nodes (the smaller of distinct new and
+  // distinct old nodes among them), so that several candidates against one old local map are
+  // one piece of evidence, not several.
+  bool vote_distinct_nodes = true;
+  // Drift of the trajectory per metre between two candidates' nodes, added to the closure's
+  // covariance when one is scored against the other's hypothesis (0: the rigid test alone).
+  double vote_drift_per_m = 0.05;
+  double vote_drift_rad_per_m = 0.01;
   // Graph optimisation after each node and after closures.
   int optimizer_iterations = 10;
 
@@ -46,6 +58,7 @@ struct LoopClosingOptions {
     v("max_distance_m", max_distance_m);
     v("mahalanobis_gate", mahalanobis_gate);
     v("perception_range_m", perception_range_m);
+    v("duplicate_radius_m", duplicate_radius_m);
     v("coarse_correspondence_m", coarse_correspondence_m);
     v("fine_correspondence_m", fine_correspondence_m);
     v("validation_bins", validation_bins);
@@ -59,6 +72,9 @@ struct LoopClosingOptions {
     v("vote_min_inliers", vote_min_inliers);
     v("vote_window", vote_window);
     v("vote_outlier_chi2", vote_outlier_chi2);
+    v("vote_distinct_nodes", vote_distinct_nodes);
+    v("vote_drift_per_m", vote_drift_per_m);
+    v("vote_drift_rad_per_m", vote_drift_rad_per_m);
     v("optimizer_iterations", optimizer_iterations);
   }
   void Validate(OptionErrors& e) const {
@@ -66,6 +82,7 @@ struct LoopClosingOptions {
     e.Require(max_distance_m > 0.0, "max_distance_m", "must be positive");
     e.Require(mahalanobis_gate > 0.0, "mahalanobis_gate", "must be positive");
     e.Require(perception_range_m >= 0.0, "perception_range_m", "must be non-negative");
+    e.Require(duplicate_radius_m >= 0.0, "duplicate_radius_m", "must be non-negative");
     e.Require(coarse_correspondence_m >= fine_correspondence_m && fine_correspondence_m > 0.0,
               "fine_correspondence_m", "must be positive and at most coarse_correspondence_m");
     e.Require(validation_bins >= 36, "validation_bins", "must be at least 36");
@@ -80,6 +97,8 @@ struct LoopClosingOptions {
     e.Require(vote_inlier_chi2 > 0.0, "vote_inlier_chi2", "must be positive");
     e.Require(vote_min_inliers >= 1, "vote_min_inliers", "must be at least 1");
     e.Require(vote_window >= 1, "vote_window", "must be at least 1");
+    e.Require(vote_drift_per_m >= 0.0, "vote_drift_per_m", "must be non-negative");
+    e.Require(vote_drift_rad_per_m >= 0.0, "vote_drift_rad_per_m", "must be non-negative");
     e.Require(vote_outlier_chi2 > vote_inlier_chi2, "vote_outlier_chi2",
               "must exceed vote_inlier_chi2");
     e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");

