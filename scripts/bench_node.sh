@@ -33,6 +33,7 @@ set +u
 # shellcheck disable=SC1091
 source "$ROOT/build_ws/devel/setup.bash"
 set -u
+rm -rf "$OUT"
 mkdir -p "$OUT"
 export ROS_HOME="$OUT/ros_home"
 export ROS_MASTER_URI="http://localhost:11391"

@@ -80,7 +80,7 @@ Status MapperNode::Start() {
   tf_timer_ = nh_.createTimer(ros::Duration(1.0 / node_options_.tf_publish_rate_hz),
                               &MapperNode::PublishTransform, this);
   map_timer_ = nh_.createWallTimer(ros::WallDuration(node_options_.map_update_interval_s),
-                               &MapperNode::PublishMapAndGraph, this);
+                                   &MapperNode::PublishMapAndGraph, this);
   ROS_INFO("longterm_mapper2d: mapping %s in %s (odometry %s -> %s%s)",
            nh_.resolveName(node_options_.scan_topic).c_str(), node_options_.map_frame.c_str(),
            node_options_.odom_frame.c_str(), node_options_.base_frame.c_str(),
@@ -111,8 +111,9 @@ void MapperNode::OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::C
   const Pose2 pose = FromRosTransform(t);
   std::lock_guard<std::mutex> lock(mapper_mutex_);
   if (!loaded_map_ || mapper_->stats().scans_received > 0) {
-    ROS_WARN("longterm_mapper2d: initial pose ignored: it places the robot in a loaded map before "
-             "the session's first scan (relocalising a running session is not supported)");
+    ROS_WARN(
+        "longterm_mapper2d: initial pose ignored: it places the robot in a loaded map before "
+        "the session's first scan (relocalising a running session is not supported)");
     return;
   }
   auto mapper = std::make_unique<longterm_mapper2d::Mapper>(mapper_options_);
@@ -122,7 +123,8 @@ void MapperNode::OnInitialPose(const geometry_msgs::PoseWithCovarianceStamped::C
   }
   mapper->SetMode(requested_mode_);  // the map is loaded, so this cannot fail
   mapper_ = std::move(mapper);
-  ROS_INFO("longterm_mapper2d: the session starts at %s in the loaded map", pose.ToString().c_str());
+  ROS_INFO("longterm_mapper2d: the session starts at %s in the loaded map",
+           pose.ToString().c_str());
 }
 
 void MapperNode::WorkerLoop() {

@@ -19,7 +19,8 @@ void MapperNode::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
   {
     std::lock_guard<std::mutex> lock(odometry_mutex_);
     if (!odometry_.Add(msg->header.stamp.toSec(), FromRosTransform(t)).ok()) {
-      ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: odometry went back in time; restarting its buffer");
+      ROS_WARN_THROTTLE(5.0,
+                        "longterm_mapper2d: odometry went back in time; restarting its buffer");
       odometry_.Clear();
       odometry_.Add(msg->header.stamp.toSec(), FromRosTransform(t));
     }
@@ -33,15 +34,17 @@ void MapperNode::OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
   if (stamp_s < newest_scan_stamp_s_) {
     if (node_options_.time_backwards != "new_session") {
       ++scans_refused_time_backwards_;
-      ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan time went backwards (%.3f < %.3f): "
+      ROS_WARN_THROTTLE(5.0,
+                        "longterm_mapper2d: scan time went backwards (%.3f < %.3f): "
                         "refused; restart the node, load the map to start a new session, or "
                         "set time_backwards: new_session",
                         stamp_s, newest_scan_stamp_s_);
       return;
     }
-    ROS_WARN("longterm_mapper2d: scan time went backwards (%.3f < %.3f): this session ends and "
-             "a new one starts on its map, the robot at the map's origin",
-             stamp_s, newest_scan_stamp_s_);
+    ROS_WARN(
+        "longterm_mapper2d: scan time went backwards (%.3f < %.3f): this session ends and "
+        "a new one starts on its map, the robot at the map's origin",
+        stamp_s, newest_scan_stamp_s_);
     // Scans of the old time still waiting will not get their odometry any more.
     scans_dropped_no_tf_ += waiting_for_odometry_.size();
     waiting_for_odometry_.clear();
@@ -74,7 +77,8 @@ void MapperNode::MapWaitingScans(bool) {
     if (!input) {
       if (newest_scan_stamp_s_ - msg.header.stamp.toSec() <= node_options_.odometry_wait_s) return;
       ++scans_dropped_no_tf_;
-      ROS_WARN_THROTTLE(5.0, "longterm_mapper2d: scan at %.3f dropped: no transform %s -> %s -> %s "
+      ROS_WARN_THROTTLE(5.0,
+                        "longterm_mapper2d: scan at %.3f dropped: no transform %s -> %s -> %s "
                         "at its stamp after %.1f s of newer scans",
                         msg.header.stamp.toSec(), node_options_.odom_frame.c_str(),
                         node_options_.base_frame.c_str(), msg.header.frame_id.c_str(),

@@ -3,10 +3,10 @@
 // file the size of the building, not of the robot's life, at the accuracy of the first session;
 // three consecutive parts of the bag, each continuing the previous map, must keep the graph small.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "real_data/real_data_support.h"
 
@@ -33,9 +33,8 @@ std::string ReadFile(const std::string& path) {
 
 int GraphNodes(const std::string& stats_json) {
   const auto pos = stats_json.find("\"graph\":");
-  return pos == std::string::npos
-             ? -1
-             : static_cast<int>(JsonNumber(stats_json.substr(pos), "nodes"));
+  return pos == std::string::npos ? -1
+                                  : static_cast<int>(JsonNumber(stats_json.substr(pos), "nodes"));
 }
 
 double RelationError(const std::string& data, const std::string& trajectory) {
@@ -94,10 +93,10 @@ TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
     std::string all_poses;
     Session session;
     for (int s = 0; s < 3; ++s) {
-      const std::string prefix = dir + "/part" + std::to_string(s) + "_" + std::to_string(maintained);
-      session = MapSession(data, std::string(parts[s]) + previous +
-                                     (maintained ? "" : " --no-maintenance"),
-                           prefix);
+      const std::string prefix =
+          dir + "/part" + std::to_string(s) + "_" + std::to_string(maintained);
+      session = MapSession(
+          data, std::string(parts[s]) + previous + (maintained ? "" : " --no-maintenance"), prefix);
       const std::string trajectory = ReadFile(prefix + ".txt");
       all_poses += trajectory;
       // The next part starts at the last pose of this one.
@@ -122,9 +121,10 @@ TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
                               "/intel/intel.bag --trajectory " + single);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const double single_error = RelationError(data, single);
-  std::printf("three parts: %d nodes (%d without maintenance), relation error %.3f m (%.3f m "
-              "without maintenance; one session %.3f m)\n",
-              nodes[1], nodes[0], errors[1], errors[0], single_error);
+  std::printf(
+      "three parts: %d nodes (%d without maintenance), relation error %.3f m (%.3f m "
+      "without maintenance; one session %.3f m)\n",
+      nodes[1], nodes[0], errors[1], errors[0], single_error);
   ASSERT_GT(nodes[0], 0);
   EXPECT_LE(nodes[1], 0.7 * nodes[0]);
   EXPECT_LT(errors[1], 0.3);

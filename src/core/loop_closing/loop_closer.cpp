@@ -109,8 +109,7 @@ std::vector<GraphNodeId> LoopCloser::Candidates(const PoseGraph& graph, GraphNod
 
 std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cloud& current,
                                                 const std::vector<Pose2>& guesses) {
-  const ProjectorGeometry geometry =
-      ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
+  const ProjectorGeometry geometry = ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
   Nicp coarse(coarse_), fine(fine_);
   degenerate_ = false;
   for (const Pose2& guess : guesses) {
@@ -235,10 +234,10 @@ std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, Mapp
         // The sub-map moves rigidly, but its chain has drifted between the two candidates' nodes
         // (and the old map may have between theirs): the closure's covariance grows by the drift
         // over that distance, so agreeing candidates a corridor apart still agree.
-        const double d = (graph.node(c.local).pose.translation() -
-                          graph.node(hyp.local).pose.translation()).norm() +
-                         (graph.node(c.old).pose.translation() -
-                          graph.node(hyp.old).pose.translation()).norm();
+        const double d =
+            (graph.node(c.local).pose.translation() - graph.node(hyp.local).pose.translation())
+                .norm() +
+            (graph.node(c.old).pose.translation() - graph.node(hyp.old).pose.translation()).norm();
         const double s_xy = options_.vote_drift_per_m * d;
         const double s_th = options_.vote_drift_rad_per_m * d;
         const Eigen::Vector3d information_diag(

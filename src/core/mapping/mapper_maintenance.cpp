@@ -40,8 +40,8 @@ void Mapper::MergeReadySets() {
   }
   std::vector<std::pair<NodeId, NodeId>> waiting;
   for (auto& [root, ids] : sets) {
-    const bool busy = std::any_of(ids.begin(), ids.end(),
-                                  [&](NodeId id) { return referenced.count(id) > 0; });
+    const bool busy =
+        std::any_of(ids.begin(), ids.end(), [&](NodeId id) { return referenced.count(id) > 0; });
     if (busy) {
       for (const auto& pair : merge_queue_) {
         if (find(pair.first) == root) waiting.push_back(pair);
@@ -96,8 +96,8 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
                                     ? CondensationMode::kWholeGraph
                                     : CondensationMode::kLocal;
   PoseGraph graph = graph_;
-  const auto report =
-      RemoveNodesCondensed(graph, removed, survivor, mode, session_id_, nodes_.at(survivor).stamp_s);
+  const auto report = RemoveNodesCondensed(graph, removed, survivor, mode, session_id_,
+                                           nodes_.at(survivor).stamp_s);
   if (!report.ok()) {
     ++stats_.counters["merges_refused"];
     return;
