@@ -50,7 +50,7 @@ Status MapperNode::Start() {
   scan_subscriber_ = scan_nh_.subscribe(node_options_.scan_topic, 100, &MapperNode::OnScan, this);
   // A scan still waiting for its odometry when no newer scan comes is retried by this timer.
   odometry_retry_timer_ = scan_nh_.createWallTimer(
-      ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { MapWaitingScans(false); });
+      ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { MapWaitingScans(); });
   if (!node_options_.odom_topic.empty()) {
     odometry_subscriber_ =
         scan_nh_.subscribe(node_options_.odom_topic, 200, &MapperNode::OnOdometry, this);

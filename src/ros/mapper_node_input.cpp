@@ -26,7 +26,7 @@ void MapperNode::OnOdometry(const nav_msgs::Odometry::ConstPtr& msg) {
     }
     odometry_.TrimBefore(msg->header.stamp.toSec() - 30.0);
   }
-  MapWaitingScans(false);
+  MapWaitingScans();
 }
 
 void MapperNode::OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
@@ -58,10 +58,10 @@ void MapperNode::OnScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
                       waiting_for_odometry_.size());
     waiting_for_odometry_.pop_front();
   }
-  MapWaitingScans(true);
+  MapWaitingScans();
 }
 
-void MapperNode::MapWaitingScans(bool) {
+void MapperNode::MapWaitingScans() {
   while (!waiting_for_odometry_.empty()) {
     const sensor_msgs::LaserScan& msg = *waiting_for_odometry_.front();
     std::optional<ScanInput> input;

@@ -45,7 +45,7 @@ class ServicesUnderLoadTest(unittest.TestCase):
                                tmp, "--duration", "120"], stdout=subprocess.DEVNULL)
         statuses = []
         rospy.Subscriber("/mapper_node/status", MapperStatus, statuses.append)
-        save = rospy.ServiceProxy("/mapper_node/save_map", SaveMap, persistent=False)
+        save = rospy.ServiceProxy("/mapper_node/save_map", SaveMap)
         optimize = rospy.ServiceProxy("/mapper_node/optimize", Trigger)
         load = rospy.ServiceProxy("/mapper_node/load_map", LoadMap)
         for name in ("save_map", "optimize", "load_map"):
@@ -63,13 +63,11 @@ class ServicesUnderLoadTest(unittest.TestCase):
             stop = threading.Event()
 
             def saver():
-                i = 0
                 while not stop.is_set():
                     response = save("under_load")
                     results["save"].append(response.success)
                     if response.success:
                         check_ltmap(os.path.join(FOLDER, "under_load.ltmap"))
-                    i += 1
 
             def optimizer():
                 while not stop.is_set():

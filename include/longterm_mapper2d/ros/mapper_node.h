@@ -51,9 +51,9 @@ class MapperNode {
   // is dropped and counted. Stamps going backwards follow the time_backwards option.
   void OnScan(const sensor_msgs::LaserScan::ConstPtr& msg);
   void OnOdometry(const nav_msgs::Odometry::ConstPtr& msg);
-  // Hands every waiting scan whose odometry is known to the worker, in order; `arrived`: called
-  // for a new scan (else by the retry timer).
-  void MapWaitingScans(bool arrived);
+  // Hands every waiting scan whose odometry is known to the worker, in order (called for each
+  // new scan or odometry message, and by a retry timer).
+  void MapWaitingScans();
   // The scan with its odometry and laser mounting, if both are known at its stamp yet.
   std::optional<longterm_mapper2d::ScanInput> WithOdometry(const sensor_msgs::LaserScan& msg);
   // False if the worker's queue is full (the scan is dropped and counted).
@@ -111,9 +111,8 @@ class MapperNode {
   std::atomic<std::uint64_t> scans_refused_time_backwards_{0};
   std::atomic<std::uint64_t> sessions_started_time_backwards_{0};
 
-  // Scans and odometry have their own callback queue, served by one thread: the MessageFilter
-  // hands ready scans to its node handle's queue, and on the node's multi-threaded spinner they
-  // would run concurrently and out of order.
+  // Scans and odometry have their own callback queue, served by one thread, so that scans are
+  // taken in their order of arrival (the node's other spinner has several threads).
   ros::CallbackQueue scan_callback_queue_;
   ros::NodeHandle scan_nh_;
   std::unique_ptr<ros::AsyncSpinner> scan_spinner_;

@@ -240,11 +240,10 @@ std::vector<GraphEdge> LoopCloser::Vote(const PoseGraph& graph, bool force, Mapp
             (graph.node(c.old).pose.translation() - graph.node(hyp.old).pose.translation()).norm();
         const double s_xy = options_.vote_drift_per_m * d;
         const double s_th = options_.vote_drift_rad_per_m * d;
-        const Eigen::Vector3d information_diag(
-            1.0 / (1.0 / options_.closure_information_xy + s_xy * s_xy),
-            1.0 / (1.0 / options_.closure_information_xy + s_xy * s_xy),
-            1.0 / (1.0 / options_.closure_information_theta + s_th * s_th));
-        const double chi2 = e.dot(information_diag.asDiagonal() * e);
+        const Eigen::Vector3d drift_variance(s_xy * s_xy, s_xy * s_xy, s_th * s_th);
+        const Eigen::Vector3d drifted_information =
+            (information.diagonal().cwiseInverse() + drift_variance).cwiseInverse();
+        const double chi2 = e.dot(drifted_information.asDiagonal() * e);
         scores.push_back(chi2);
         plain_scores.push_back(e.dot(information * e));
         if (chi2 < options_.vote_inlier_chi2) {
