@@ -6,9 +6,9 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${1:?usage: demo.sh OUT_DIR [WORLD.yaml] [SESSIONS] [DURATION_S]}"
-WORLD="${2:-$ROOT/config/worlds/small_room.yaml}"
+WORLD="${2:-$ROOT/config/worlds/care_home.yaml}"
 SESSIONS="${3:-3}"
-DURATION="${4:-240}"
+DURATION="${4:-430}"
 BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
 
 mkdir -p "$OUT/sim"
@@ -23,8 +23,8 @@ REPORT="$OUT/report.md"
   echo "Each session is mapped from its simulated bag on top of the map saved by the previous"
   echo "session, and compared with that session's true world."
   echo
-  echo "| session | scans | processed | wall time [s] | nodes | loop closures | map file [kB] | precision | recall | phantom cells |"
-  echo "|---|---|---|---|---|---|---|---|---|---|"
+  echo "| session | scans | processed | wall time [s] | nodes | closures accepted | merges | map file [kB] | precision | recall | phantom cells | trajectory RMSE [m] |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$REPORT"
 
 for k in $(seq 1 "$SESSIONS"); do
@@ -36,16 +36,47 @@ for k in $(seq 1 "$SESSIONS"); do
   mv "$dir.ltmap.tmp" "$dir/map.ltmap"
   "$BIN/evaluate_map" --map "$dir/map.yaml" --truth "$OUT/sim/session_${k}_truth.yaml" --json \
     --diff "$dir/difference.png" > "$dir/map_quality.json"
-  /usr/bin/python3 - "$dir" "$k" >> "$REPORT" <<'PY'
-import json, sys
-d, k = sys.argv[1], sys.argv[2]
+  /usr/bin/python3 - "$dir" "$k" "$OUT/sim/session_${k}_truth_trajectory.txt" >> "$REPORT" <<'PY'
+import json, math, os, sys
+d, k, truth_path = sys.argv[1], sys.argv[2], sys.argv[3]
 s = json.load(open(d + "/stats.json"))
 q = json.load(open(d + "/map_quality.json"))
-import os
-g = s["graph"]
-print("| %s | %d | %d | %.2f | %d | %d | %.0f | %.3f | %.3f | %d |" % (k, s["scans_read"],
-      s["scans_processed"], s["wall_time_s"], g["nodes"], g["edges_loop_closure"],
-      os.path.getsize(d + "/map.ltmap") / 1024.0, q["precision"], q["recall"], q["phantom_cells"]))
+def poses(path):
+    out = {}
+    for line in open(path):
+        f = line.split()
+        if len(f) >= 4 and not line.startswith("#"):
+            out[round(float(f[0]), 3)] = (float(f[1]), float(f[2]))
+    return out
+est, truth = poses(d + "/trajectory.txt"), poses(truth_path)
+common = [t for t in est if t in truth]
+rmse = math.sqrt(sum((est[t][0] - truth[t][0]) ** 2 + (est[t][1] - truth[t][1]) ** 2
+                     for t in common) / max(1, len(common)))
+c = s["counters"]
+print("| %s | %d | %d | %.2f | %d | %d | %d | %.0f | %.3f | %.3f | %d | %.3f |" % (k,
+      s["scans_read"], s["scans_processed"], s["wall_time_s"], s["graph"]["nodes"],
+      c.get("loop_closures_accepted", 0), c.get("merges", 0),
+      os.path.getsize(d + "/map.ltmap") / 1024.0, q["precision"], q["recall"], q["phantom_cells"],
+      rmse))
+PY
+done
+
+# What changed between consecutive sessions: the later map compared with the earlier one.
+{
+  echo
+  echo "Changes between consecutive maps (change_k.png: red appeared since session k-1, dark blue"
+  echo "gone although session k looked there, light blue not seen again, green unchanged):"
+  echo
+  echo "| sessions | occupied cells appeared | occupied cells gone |"
+  echo "|---|---|---|"
+} >> "$REPORT"
+for k in $(seq 2 "$SESSIONS"); do
+  "$BIN/evaluate_map" --map "$OUT/session_$k/map.yaml" --truth "$OUT/session_$((k - 1))/map.yaml" \
+    --json --diff "$OUT/change_$k.png" > "$OUT/session_$k/change.json"
+  /usr/bin/python3 - "$OUT/session_$k/change.json" "$k" >> "$REPORT" <<'PY'
+import json, sys
+c, k = json.load(open(sys.argv[1])), int(sys.argv[2])
+print("| %d -> %d | %d | %d |" % (k - 1, k, c["phantom_cells"], c["truth_observed"] - c["recalled"]))
 PY
 done
 
@@ -54,10 +85,10 @@ done
   echo "Per session: session_k/map.png (the map), map.pgm/.yaml (map_server format), map.ltmap"
   echo "(the session map the next session loads), trajectory.txt, stats.json, difference.png"
   echo "(green correct, red phantom, blue missed). Local maps that a session revisits merge into its"
-  echo "newest node and the older node is removed, so the graph stays the size of the room."
+  echo "newest node and the older node is removed, so the graph stays the size of the building."
 } >> "$REPORT"
 
 echo
 cat "$REPORT"
 echo
-echo "demo: done. Look at $OUT/report.md and the maps in $OUT/session_*/map.png"
+echo "demo: done. Look at $OUT/report.md, the maps in $OUT/session_*/map.png and the changes in $OUT/change_*.png"

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and maps.
-#   scripts/map.sh                      built-in demo: three simulated sessions of a small room
+#   scripts/map.sh                      built-in demo: three simulated sessions of a care-home floor
+#                                       (people walking, furniture moved between sessions)
 #   scripts/map.sh --world FILE.yaml [--duration S]
-#                                       the demo on another world, e.g. config/worlds/care_home.yaml
-#                                       with --duration 430 (one patrol of the care-home floor)
+#                                       the demo on another world, e.g. config/worlds/small_room.yaml
+#                                       with --duration 240 (a fast one)
 #   scripts/map.sh --bag FILE [--bag FILE ...] [offline_mapper options]
 #   scripts/map.sh --carmen FILE        [offline_mapper options]
 # Results go to output/ (map .pgm/.yaml/.png, trajectory, stats).
@@ -24,7 +25,7 @@ set -u
 mkdir -p "$OUT"
 if [ "${1:-}" = "--world" ]; then
   world="${2:?map.sh: --world needs a file}"
-  duration=240
+  duration=430
   if [ "${3:-}" = "--duration" ]; then duration="${4:?map.sh: --duration needs seconds}"; fi
   exec bash "$ROOT/scripts/demo.sh" "$OUT" "$world" 3 "$duration"
 fi

@@ -23,6 +23,7 @@ RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight) {
   const double norm = normal.norm();
   out.normal = norm > 1e-9 ? Eigen::Vector2d(normal / norm) : Eigen::Vector2d::Zero();
   out.weight = std::min(weight, max_weight);
+  out.observations = std::min(a.observations + b.observations, kMaxObservations);
   return out;
 }
 
@@ -36,7 +37,8 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
   const Pose2 laser_T_frame = frame_T_laser.inverse();
   ProjectCloud(geometry, laser_T_frame, map, &image_);
   src_of_beam_.assign(scan.ranges.size(), -1);
-  for (std::size_t i = 0; i < scan_points.size(); ++i) src_of_beam_[scan_beams[i]] = static_cast<int>(i);
+  for (std::size_t i = 0; i < scan_points.size(); ++i)
+    src_of_beam_[scan_beams[i]] = static_cast<int>(i);
 
   const double tau = options_.merge_distance_m;
   const double cos_angle = std::cos(options_.merge_normal_angle_rad);
@@ -51,17 +53,31 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
       const double r_new = scan.ranges[beam];
       if (old_index < 0 || r_old - r_new > tau) {
         map.push_back(p);
+        // In front of a known surface: space an earlier beam crossed, now occupied. Something
+        // moved in (or an occlusion edge); not a registration target until seen in place again.
+        if (old_index >= 0) map.back().observations = 0;
         ++stats.added;
       } else if (r_old - r_new < -tau) {
         remove_[old_index] = 1;
         map.push_back(p);
+        map.back().observations = 0;  // what was there moved away (or was seen past)
         ++stats.replaced;
       } else {
         RichPoint& old = map[old_index];
-        const bool compatible = !old.has_normal() || !p.has_normal() ||
-                                old.normal.dot(p.normal) >= cos_angle;
+        const bool compatible =
+            !old.has_normal() || !p.has_normal() || old.normal.dot(p.normal) >= cos_angle;
         if (compatible && old.has_normal() == p.has_normal()) {
+          // Point-to-line offset of the return from the old surface (point-to-point without
+          // normals): a wall seen again from elsewhere stays on its line, a person walking along
+          // the beam does not.
+          const Eigen::Vector2d offset = p.point_m - old.point_m;
+          const double moved_m =
+              old.has_normal() ? std::abs(old.normal.dot(offset)) : offset.norm();
+          const double static_m =
+              options_.static_distance_m + options_.static_distance_per_m * r_new;
+          const int observations = moved_m <= static_m ? old.observations + 1 : 0;
           old = Fuse(old, p, options_.max_weight);
+          old.observations = observations;
           ++stats.fused;
         } else if (!old.has_normal() && p.has_normal()) {
           old = p;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace longterm_mapper2d {
 namespace {
@@ -154,11 +155,18 @@ StatusOr<OccupancyGrid> RenderOccupancyGrid(const std::vector<PosedScan>& scans,
       OccupancyGrid::Filled(res, static_cast<int>(width), static_cast<int>(height), origin);
   LogOddsGrid log_odds(grid, options);
 
-  // Pass 2: per scan, hits first (they win over the free rays of the same scan), then free rays.
+  // Pass 2: scans oldest first, so that with clamped log-odds the latest observations of a cell
+  // decide it (furniture moved since an earlier session is erased by the scans that see it gone);
+  // per scan, hits first (they win over the free rays of the same scan), then free rays.
+  std::vector<std::size_t> order(scans.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return scans[a].scan.stamp_s < scans[b].scan.stamp_s;
+  });
   std::vector<Eigen::Vector2i> end_cells;
   std::vector<char> end_is_hit;
   int32_t scan_id = 0;
-  for (std::size_t k = 0; k < scans.size(); ++k) {
+  for (const std::size_t k : order) {
     if (!usable[k]) continue;
     ++scan_id;
     const PosedScan& posed = scans[k];

@@ -28,9 +28,7 @@ Eigen::Matrix3d Adjoint(const Pose2& X) {
 }
 
 Tracker::Tracker(const MapperOptions& options)
-    : options_(options),
-      nicp_(options.registration),
-      merger_(options.merger) {}
+    : options_(options), nicp_(options.registration), merger_(options.merger) {}
 
 Cloud Tracker::MakeCloud(const ScanInput& input, std::vector<int>* beams,
                          MapperStats& stats) const {
@@ -57,15 +55,44 @@ void Tracker::MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points
                                 MapperStats& stats) {
   ScopedStageTimer timer(stats.stage_times, "merging");
   const Cloud points = Transform(tracker_T_base, base_points);
-  const MergeStats merged = merger_.Merge(local_map_, points, beams, input.scan,
-                                          tracker_T_base * input.base_T_laser,
-                                          options_.cloud.max_range_m);
+  const MergeStats merged =
+      merger_.Merge(local_map_, points, beams, input.scan, tracker_T_base * input.base_T_laser,
+                    options_.cloud.max_range_m);
   stats.counters["points_erased_free_space"] += merged.erased;
   stats.counters["points_replaced"] += merged.replaced;
-  if ((tracker_T_base.translation() - last_clip_position_).norm() >= options_.tracker.clip_every_m) {
+  if ((tracker_T_base.translation() - last_clip_position_).norm() >=
+      options_.tracker.clip_every_m) {
     CloudMerger::Clip(local_map_, tracker_T_base.translation(), options_.tracker.local_map_range_m);
     last_clip_position_ = tracker_T_base.translation();
   }
+}
+
+const Cloud& Tracker::RegistrationTargets(const Pose2& tracker_T_laser,
+                                          const ProjectorGeometry& geometry) {
+  const int min_observations = options_.tracker.min_target_observations;
+  if (min_observations <= 0) return local_map_;
+  // What the scan will see: of the local map's surfaces in view (the nearest point per beam), how
+  // many are confirmed? Turning into new space, or a fresh local map, leaves few; then the points
+  // seen once count too, and only those seen moving are left out.
+  ProjectCloud(geometry, tracker_T_laser.inverse(), local_map_, &view_);
+  int in_view = 0, confirmed = 0;
+  for (const int index : view_.indices) {
+    if (index < 0) continue;
+    ++in_view;
+    if (local_map_[index].observations >= min_observations) ++confirmed;
+  }
+  const bool enough_confirmed =
+      in_view > 0 && confirmed >= options_.tracker.min_stable_target_fraction * in_view;
+  const int needed = enough_confirmed ? min_observations : 1;
+  targets_.clear();
+  for (const RichPoint& p : local_map_) {
+    if (p.observations >= needed) targets_.push_back(p);
+  }
+  // Nearly everything seen moving (a crowd filling the view): better the whole map than nothing.
+  if (static_cast<int>(targets_.size()) < options_.registration.min_correspondences) {
+    return local_map_;
+  }
+  return targets_;
 }
 
 TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
@@ -92,14 +119,22 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
     ScopedStageTimer timer(stats.stage_times, "registration");
     const ProjectorGeometry geometry =
         ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
-    registration = nicp_.AlignProjective(local_map_, base_points, guess, input.base_T_laser,
-                                         geometry, prior);
+    const Cloud& targets = RegistrationTargets(guess * input.base_T_laser, geometry);
+    registration =
+        nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser, geometry, prior);
     if (prior && !registration.validation.accepted) {
       // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
       // decide alone before giving up on the local map.
       ++stats.counters["registrations_retried_without_prior"];
-      registration = nicp_.AlignProjective(local_map_, base_points, guess, input.base_T_laser,
+      registration = nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser,
                                            geometry, std::nullopt);
+    }
+    if (&targets != &local_map_ && registration.solved) {
+      // Judged against everything the local map saw: areas seen once (just come into view)
+      // are not targets yet, but they are evidence that the scan fits.
+      registration.validation =
+          nicp_.Validate(local_map_, base_points, registration.reference_T_current,
+                         registration.reference_T_current * input.base_T_laser, geometry);
     }
   }
   if (!registration.solved || !registration.validation.accepted ||

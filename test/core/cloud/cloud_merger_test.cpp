@@ -103,11 +103,56 @@ TEST(CloudMerger, UnobservedBinsAreUntouched) {
   // A point behind the laser (outside the 5-degree field of view) and one in a bin whose reading
   // is invalid (NaN) stay, even though nothing was seen there.
   Cloud map = {PointAhead(-3.0), PointAhead(3.0, 2.0)};
-  const LaserScan scan = FiveBeams({kNoReturn, kNoReturn, kNoReturn, kNoReturn,
-                                    std::numeric_limits<float>::quiet_NaN()});
+  const LaserScan scan = FiveBeams(
+      {kNoReturn, kNoReturn, kNoReturn, kNoReturn, std::numeric_limits<float>::quiet_NaN()});
   CloudMerger merger(NoThinning());
   merger.Merge(map, {}, {}, scan, Pose2(), 30.0);
   EXPECT_EQ(map.size(), 2u);
+}
+
+TEST(CloudMerger, ObservationCountsGrowInPlaceAndDropWhenSomethingMoves) {
+  CloudMerger merger(NoThinning());
+  // An empty bin: a new point counts one observation.
+  Cloud map;
+  LaserScan scan = FiveBeams({kNoReturn, kNoReturn, 4.0f, kNoReturn, kNoReturn});
+  NewData data = PointsOf(scan);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_EQ(map[0].observations, 1);
+  // The same surface again, 1 cm off (range noise): fused, two observations.
+  scan = FiveBeams({kNoReturn, kNoReturn, 4.01f, kNoReturn, kNoReturn});
+  data = PointsOf(scan);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_EQ(map[0].observations, 2);
+  // 0.1 m farther along the normal: still the same surface (within merge_distance_m, fused), but
+  // off its line: it moved, and its count drops to 0.
+  scan = FiveBeams({kNoReturn, kNoReturn, 4.11f, kNoReturn, kNoReturn});
+  data = PointsOf(scan);
+  const MergeStats stats = merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  EXPECT_EQ(stats.fused, 1);
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_EQ(map[0].observations, 0);
+}
+
+TEST(CloudMerger, PointsAppearingWhereABeamHadPassedStartUnconfirmed) {
+  CloudMerger merger(NoThinning());
+  // In front of a known wall (the space was seen free): 0 observations; the wall keeps its own.
+  Cloud map = {PointAhead(5.0)};
+  map[0].observations = 3;
+  LaserScan scan = FiveBeams({kNoReturn, kNoReturn, 2.0f, kNoReturn, kNoReturn});
+  NewData data = PointsOf(scan);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  ASSERT_EQ(map.size(), 2u);
+  EXPECT_EQ(map[0].observations, 3);
+  EXPECT_EQ(map[1].observations, 0);
+  // Behind an old point the beam passed through: the replacement has 0 observations too.
+  map = {PointAhead(3.0)};
+  scan = FiveBeams({kNoReturn, kNoReturn, 5.0f, kNoReturn, kNoReturn});
+  data = PointsOf(scan);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_EQ(map[0].observations, 0);
 }
 
 TEST(CloudMerger, FusedWeightsSaturate) {

@@ -20,6 +20,11 @@ struct MergerOptions {
   double free_space_max_range_m = 10.0;
   // Accumulated weights saturate here, so old evidence cannot outvote new observations forever.
   double max_weight = 1000.0;
+  // A fused return farther than static_distance_m + static_distance_per_m * range from the old
+  // point's line (along its normal) means the surface moved: the fused point has 0 observations.
+  // The range term covers the pose's rotation error, which moves far points.
+  double static_distance_m = 0.04;
+  double static_distance_per_m = 0.005;
 
   template <class V>
   void Visit(V& v) {
@@ -28,6 +33,8 @@ struct MergerOptions {
     v("radial_merge", radial_merge);
     v("free_space_max_range_m", free_space_max_range_m);
     v("max_weight", max_weight);
+    v("static_distance_m", static_distance_m);
+    v("static_distance_per_m", static_distance_per_m);
   }
   void Validate(OptionErrors& e) const {
     e.Require(merge_distance_m > 0.0, "merge_distance_m", "must be positive");
@@ -35,6 +42,8 @@ struct MergerOptions {
               "merge_normal_angle_rad", "must be in (0, pi]");
     e.Require(free_space_max_range_m >= 0.0, "free_space_max_range_m", "must be non-negative");
     e.Require(max_weight > 0.0, "max_weight", "must be positive");
+    e.Require(static_distance_m > 0.0, "static_distance_m", "must be positive");
+    e.Require(static_distance_per_m >= 0.0, "static_distance_per_m", "must be non-negative");
   }
 };
 
@@ -47,7 +56,7 @@ struct MergeStats {
 };
 
 // Weighted fusion of two points: position and normal averaged with the accumulated weights
-// (1/r at creation), weights summed and saturated at max_weight.
+// (1/r at creation), weights summed and saturated at max_weight; observation counts summed.
 RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight);
 
 // Merges a new scan into a map cloud, bin by bin as seen from the laser (see ALGORITHMS.md §5):
@@ -55,7 +64,12 @@ RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight);
 //   no map point            -> the new point is added;
 //   d > tau                 -> the new point is in front of the old one: added, the old one kept;
 //   d < -tau                -> the beam passed through the old point: it is replaced;
-//   |d| <= tau              -> the same surface: fused if the normals agree;
+//   |d| <= tau              -> the same surface: fused if the normals agree, with one more
+//                              observation if the return lies within the static distance of the
+//                              old point's line, and 0 otherwise (it moved);
+// Observation counts (RichPoint::observations): a point added to an empty bin starts at 1; one
+// added in front of an old point or replacing one starts at 0 (it appeared where a beam had
+// passed, or where something was), so moving things never reach the tracker's target threshold.
 //   no new return           -> the old point is erased only if the beam proves free space past it
 //                              (a no-return beam up to free_space_max_range_m, or a return
 //                              farther than the cloud's range); bins the scan did not observe

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 
 #include "longterm_mapper2d/core/cloud/cloud_merger.h"
+#include "longterm_mapper2d/core/cloud/range_projector.h"
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
 #include "longterm_mapper2d/core/registration/nicp.h"
@@ -47,11 +48,16 @@ class Tracker {
   void MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
                          const std::vector<int>& beams, const Pose2& tracker_T_base,
                          MapperStats& stats);
+  // The local map's points used as registration targets (TrackerOptions::min_target_observations)
+  // for a scan taken from tracker_T_laser.
+  const Cloud& RegistrationTargets(const Pose2& tracker_T_laser, const ProjectorGeometry& geometry);
 
   MapperOptions options_;
   Nicp nicp_;
   CloudMerger merger_;
   Cloud local_map_;
+  Cloud targets_;  // reused buffers of RegistrationTargets()
+  RangeImage view_;
   bool initialized_ = false;
   Eigen::Vector2d last_clip_position_ = Eigen::Vector2d::Zero();
 };

@@ -26,6 +26,13 @@ struct TrackerOptions {
   double odometry_sigma_theta_rad = 0.1;
   double odometry_sigma_theta_per_rad = 1.0;
   double odometry_sigma_theta_per_m = 0.05;
+  // Registration targets: only local-map points seen in place by at least this many scans
+  // (RichPoint::observations; 0 turns the filter off), so a person walking along a corridor,
+  // re-observed a little farther each scan, cannot drag the match along the corridor's free axis.
+  // If fewer than min_stable_target_fraction of the surfaces in view qualify (turning into new
+  // space, a fresh local map), points seen once are used too; points seen moving never are.
+  int min_target_observations = 2;
+  double min_stable_target_fraction = 0.5;
   // Registration covariances (inverse Hessians) are optimistic; they are scaled by this before
   // they accumulate into odometry edges.
   double registration_covariance_scale = 100.0;
@@ -45,6 +52,8 @@ struct TrackerOptions {
     v("odometry_sigma_theta_rad", odometry_sigma_theta_rad);
     v("odometry_sigma_theta_per_rad", odometry_sigma_theta_per_rad);
     v("odometry_sigma_theta_per_m", odometry_sigma_theta_per_m);
+    v("min_target_observations", min_target_observations);
+    v("min_stable_target_fraction", min_stable_target_fraction);
     v("registration_covariance_scale", registration_covariance_scale);
   }
   void Validate(OptionErrors& e) const {
@@ -59,6 +68,9 @@ struct TrackerOptions {
     e.Require(odometry_sigma_xy_per_m >= 0.0 && odometry_sigma_theta_per_rad >= 0.0 &&
                   odometry_sigma_theta_per_m >= 0.0,
               "odometry_sigma_xy_per_m", "odometry noise slopes must be non-negative");
+    e.Require(min_target_observations >= 0, "min_target_observations", "must be non-negative");
+    e.Require(min_stable_target_fraction >= 0.0 && min_stable_target_fraction <= 1.0,
+              "min_stable_target_fraction", "must be in [0, 1]");
     e.Require(registration_covariance_scale > 0.0, "registration_covariance_scale",
               "must be positive");
   }
@@ -88,9 +100,9 @@ struct SessionOptions {
 struct LocalizationOptions {
   double every_m = 1.0;
   double every_rad = 0.5;
-  int max_nodes = 3;             // map nodes tried, nearest first
-  double search_radius_m = 8.0;  // ... within this distance of the robot
-  double max_correction_m = 2.0; // a larger jump is refused (a symmetric place, not the robot)
+  int max_nodes = 3;              // map nodes tried, nearest first
+  double search_radius_m = 8.0;   // ... within this distance of the robot
+  double max_correction_m = 2.0;  // a larger jump is refused (a symmetric place, not the robot)
 
   template <class V>
   void Visit(V& v) {

@@ -1,0 +1,149 @@
+// The care home (config/worlds/care_home.yaml) mapped over three simulated sessions, each on the
+// map the previous one left: people walking in the corridors and the day room, furniture and doors
+// that change between sessions. Scored against the simulator's truth (ALGORITHMS.md, issue 7's
+// criteria): map precision and recall, the old places of moved objects, trajectory error, and the
+// size of the graph.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+
+#include "longterm_mapper2d/core/evaluation/map_comparison.h"
+#include "longterm_mapper2d/core/map/grid_renderer.h"
+#include "longterm_mapper2d/core/mapping/mapper.h"
+#include "longterm_mapper2d/core/simulation/session_simulator.h"
+
+namespace longterm_mapper2d {
+namespace {
+
+struct CareHomeSession {
+  SessionMap map;
+  OccupancyGrid grid;
+  MapComparison quality;
+  double rmse_m = 0.0;
+  int nodes = 0;
+};
+
+// One whole patrol (430 s) of session `session`, on top of `previous` when given.
+CareHomeSession MapCareHomeSession(const World& world, int session, const SessionMap* previous,
+                                   std::uint64_t seed) {
+  SimulationOptions simulation;
+  simulation.duration_s = 430.0;
+  SessionSimulator simulator(world, session, simulation, seed);
+  const auto steps = simulator.Run();
+  Mapper mapper(MapperOptions{});
+  if (previous) EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
+  for (const SimulatedStep& step : steps) {
+    ScanInput input;
+    input.scan = step.scan;
+    input.odom_T_base = step.odom_T_base;
+    input.base_T_laser = simulator.base_T_laser();
+    mapper.AddScan(input);
+  }
+  mapper.Finish();
+  CareHomeSession result;
+  const auto trajectory = mapper.Trajectory();
+  double sum_sq = 0.0;
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    sum_sq += (trajectory[i].pose.translation() - steps[i].map_T_base.translation()).squaredNorm();
+  }
+  result.rmse_m = std::sqrt(sum_sq / steps.size());
+  auto grid = RenderOccupancyGrid(mapper.WaypointScans(), mapper.options().grid);
+  EXPECT_TRUE(grid.ok()) << grid.status().message();
+  result.grid = *grid;
+  const OccupancyGrid truth = RasterizeWorld(world, session, result.grid.resolution_m);
+  auto quality = CompareMaps(result.grid, truth);
+  EXPECT_TRUE(quality.ok()) << quality.status().message();
+  result.quality = *quality;
+  result.nodes = static_cast<int>(mapper.graph().nodes().size());
+  result.map = mapper.ExportSession();
+  std::printf(
+      "session %d, seed %llu: precision %.3f recall %.3f phantom cells %lld, trajectory RMSE %.3f "
+      "m, "
+      "%d nodes\n",
+      session, static_cast<unsigned long long>(seed), result.quality.precision,
+      result.quality.recall, static_cast<long long>(result.quality.phantom), result.rmse_m,
+      result.nodes);
+  return result;
+}
+
+double DistanceToSegment(const Eigen::Vector2d& p, const Segment& s) {
+  const Eigen::Vector2d d = s.b_m - s.a_m;
+  const double t =
+      d.squaredNorm() > 0.0 ? std::clamp((p - s.a_m).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (s.a_m + t * d)).norm();
+}
+
+// Of the places where objects of session `before` stood that are gone in session `after`
+// (sampled every 5 cm, away from anything still there), the fraction the map shows occupied.
+double OccupiedWhereObjectsLeft(const World& world, int before, int after, const OccupancyGrid& map,
+                                int* samples) {
+  const auto remaining = world.StaticSegments(after);
+  int occupied = 0;
+  *samples = 0;
+  for (const SemiStaticObject& object : world.objects) {
+    if (!object.PresentIn(before) || object.PresentIn(after)) continue;
+    for (const Segment& segment : object.segments) {
+      const double length = (segment.b_m - segment.a_m).norm();
+      for (double s = 0.0; s <= length; s += 0.05) {
+        const Eigen::Vector2d p = segment.a_m + (segment.b_m - segment.a_m) * (s / length);
+        bool near_remaining = false;
+        for (const Segment& r : remaining) near_remaining |= DistanceToSegment(p, r) < 0.15;
+        if (near_remaining) continue;
+        const Eigen::Vector2i cell = map.WorldToCell(p);
+        if (cell.x() < 0 || cell.y() < 0 || cell.x() >= map.width || cell.y() >= map.height)
+          continue;
+        ++*samples;
+        if (map.at(cell.x(), cell.y()) >= 65) ++occupied;
+      }
+    }
+  }
+  return *samples > 0 ? static_cast<double>(occupied) / *samples : 0.0;
+}
+
+// Fifteen people walk the corridors and the day room while the robot patrols. A person walking
+// along a corridor ahead of the robot is what scan matching fears most; the tracker registers only
+// against surfaces seen in place. Five realisations (people's timing against the robot's, odometry
+// noise, range noise) of session 1, each mapped from scratch.
+TEST(CareHome, PeopleWalkingByStayOutOfTheMap) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/care_home.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  int good = 0;
+  for (std::uint64_t seed = 11; seed <= 15; ++seed) {
+    const CareHomeSession run = MapCareHomeSession(*world, 1, nullptr, seed);
+    if (run.quality.precision >= 0.97 && run.rmse_m < 0.05) ++good;
+  }
+  // Measured: 5 of 5 (RMSE 1.8-3.6 cm, precision 0.978-0.996). Not every realisation is that
+  // good: of seeds 1-7, two drifted 7 and 14 cm along the cross corridor, where a nurse walks
+  // towards the robot; hence 4 of 5.
+  EXPECT_GE(good, 4);
+}
+
+// Furniture added, removed and moved, doors shut and opened between sessions; each session is
+// mapped on the map the previous one left.
+TEST(CareHome, FurnitureChangesAreTakenInAndTheGraphStaysTheSizeOfTheFloor) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/care_home.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  const CareHomeSession first = MapCareHomeSession(*world, 1, nullptr, 1);
+  const CareHomeSession second = MapCareHomeSession(*world, 2, &first.map, 2);
+  EXPECT_GE(second.quality.precision, 0.95);
+  EXPECT_GE(second.quality.recall, 0.90);
+  EXPECT_LT(second.rmse_m, 0.05);
+  int samples = 0;
+  const double left_occupied = OccupiedWhereObjectsLeft(*world, 1, 2, second.grid, &samples);
+  std::printf("places objects left after session 1: %d cells, %.3f still occupied\n", samples,
+              left_occupied);
+  EXPECT_GT(samples, 50);
+  EXPECT_LE(left_occupied, 0.1);  // measured 0.036
+
+  const CareHomeSession third = MapCareHomeSession(*world, 3, &second.map, 3);
+  EXPECT_LE(third.nodes, 1.3 * first.nodes);
+  EXPECT_GE(third.quality.precision, 0.95);
+  EXPECT_LT(third.rmse_m, 0.05);
+}
+
+}  // namespace
+}  // namespace longterm_mapper2d
