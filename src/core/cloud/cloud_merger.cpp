@@ -51,11 +51,12 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
     if (src >= 0) {
       const RichPoint& p = scan_points[src];
       const double r_new = scan.ranges[beam];
-      if (old_index < 0 || r_old - r_new > tau) {
+      if (old_index < 0 || r_old - r_new > tau ||
+          (!options_.free_space_reasoning && r_old - r_new < -tau)) {
         map.push_back(p);
         // In front of a known surface: space an earlier beam crossed, now occupied. Something
         // moved in (or an occlusion edge); not a registration target until seen in place again.
-        if (old_index >= 0) map.back().observations = 0;
+        if (old_index >= 0 && r_old - r_new > tau) map.back().observations = 0;
         ++stats.added;
       } else if (r_old - r_new < -tau) {
         remove_[old_index] = 1;
@@ -86,7 +87,7 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
       }
       continue;
     }
-    if (old_index < 0) continue;
+    if (old_index < 0 || !options_.free_space_reasoning) continue;
     // No new point in this bin: what did the beam see?
     const float r = scan.ranges[beam];
     double free_until = 0.0;

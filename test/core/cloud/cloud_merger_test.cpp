@@ -155,6 +155,21 @@ TEST(CloudMerger, PointsAppearingWhereABeamHadPassedStartUnconfirmed) {
   EXPECT_EQ(map[0].observations, 0);
 }
 
+TEST(CloudMerger, WithoutFreeSpaceReasoningNothingIsReplacedOrErased) {
+  MergerOptions options = NoThinning();
+  options.free_space_reasoning = false;
+  CloudMerger merger(options);
+  // A beam through an old point adds the new return behind it; a no-return beam erases nothing.
+  Cloud map = {PointAhead(3.0), PointAhead(3.0, 1.0)};
+  const LaserScan scan = FiveBeams({kNoReturn, kNoReturn, 5.0f, kNoReturn, kNoReturn});
+  const NewData data = PointsOf(scan);
+  const MergeStats stats = merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  EXPECT_EQ(stats.added, 1);
+  EXPECT_EQ(stats.replaced, 0);
+  EXPECT_EQ(stats.erased, 0);
+  EXPECT_EQ(map.size(), 3u);
+}
+
 TEST(CloudMerger, FusedWeightsSaturate) {
   RichPoint a = PointAhead(1.0, 0.0, 900.0), b = PointAhead(1.0, 0.0, 300.0);
   EXPECT_DOUBLE_EQ(Fuse(a, b, 1000.0).weight, 1000.0);

@@ -29,12 +29,13 @@ struct CareHomeSession {
 
 // One whole patrol (430 s) of session `session`, on top of `previous` when given.
 CareHomeSession MapCareHomeSession(const World& world, int session, const SessionMap* previous,
-                                   std::uint64_t seed) {
+                                   std::uint64_t seed,
+                                   const MapperOptions& options = MapperOptions{}) {
   SimulationOptions simulation;
   simulation.duration_s = 430.0;
   SessionSimulator simulator(world, session, simulation, seed);
   const auto steps = simulator.Run();
-  Mapper mapper(MapperOptions{});
+  Mapper mapper(options);
   if (previous) EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
   for (const SimulatedStep& step : steps) {
     ScanInput input;
@@ -68,6 +69,25 @@ CareHomeSession MapCareHomeSession(const World& world, int session, const Sessio
       result.quality.recall, static_cast<long long>(result.quality.phantom), result.rmse_m,
       result.nodes);
   return result;
+}
+
+// The map as its points: every node's cloud in the map frame, rasterised onto the truth's lattice
+// (occupied where a point falls, unknown elsewhere). This is what free-space merging acts on; the
+// grid of the other tests is rendered from raw scans.
+MapComparison CloudMapQuality(const SessionMap& map, const OccupancyGrid& truth) {
+  OccupancyGrid grid = truth;
+  std::fill(grid.cells.begin(), grid.cells.end(), -1);
+  for (const auto& [id, node] : map.nodes) {
+    for (const RichPoint& p : node.cloud) {
+      const Eigen::Vector2i cell = grid.WorldToCell(node.map_T_node * p.point_m);
+      if (cell.x() < 0 || cell.y() < 0 || cell.x() >= grid.width || cell.y() >= grid.height)
+        continue;
+      grid.at(cell.x(), cell.y()) = 100;
+    }
+  }
+  auto quality = CompareMaps(grid, truth);
+  EXPECT_TRUE(quality.ok()) << quality.status().message();
+  return quality.ok() ? *quality : MapComparison{};
 }
 
 double DistanceToSegment(const Eigen::Vector2d& p, const Segment& s) {
@@ -120,6 +140,33 @@ TEST(CareHome, PeopleWalkingByStayOutOfTheMap) {
   // good: of seeds 1-7, two drifted 7 and 14 cm along the cross corridor, where a nurse walks
   // towards the robot; hence 4 of 5.
   EXPECT_GE(good, 4);
+}
+
+// The same session mapped with the free-space merger and with plain accumulation
+// (merger.free_space_reasoning: false): the points of the map (the node clouds) keep far fewer
+// phantoms (people's trails) with it.
+TEST(CareHome, FreeSpaceMergingKeepsPeopleOutOfTheMapClouds) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/care_home.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  const OccupancyGrid truth = RasterizeWorld(*world, 1, 0.05);
+  const CareHomeSession merged = MapCareHomeSession(*world, 1, nullptr, 11);
+  MapperOptions accumulate;
+  accumulate.merger.free_space_reasoning = false;
+  const CareHomeSession accumulated = MapCareHomeSession(*world, 1, nullptr, 11, accumulate);
+  const MapComparison with = CloudMapQuality(merged.map, truth);
+  const MapComparison without = CloudMapQuality(accumulated.map, truth);
+  std::printf(
+      "map clouds: free-space merging %lld phantom cells, precision %.3f; accumulation "
+      "%lld phantom cells, precision %.3f\n",
+      static_cast<long long>(with.phantom), with.precision, static_cast<long long>(without.phantom),
+      without.precision);
+  // Measured: 920 against 3479 phantom cells (0.26x), precision 0.911 against 0.745. The goal
+  // (0.1x, precision 0.97) is not met: what remains are people's last positions in each node's
+  // cloud, which no later beam of that node crossed (clouds are cleaned across nodes only when
+  // they merge).
+  EXPECT_LE(with.phantom, 0.35 * without.phantom);
+  EXPECT_GE(with.precision, 0.9);
+  EXPECT_GT(with.precision, without.precision);
 }
 
 // Furniture added, removed and moved, doors shut and opened between sessions; each session is

@@ -10,6 +10,9 @@
 namespace longterm_mapper2d {
 
 struct MergerOptions {
+  // Off: plain accumulation for comparison (new points are added or fused; nothing a beam passed
+  // through is replaced or erased), as a map without free-space reasoning would keep people.
+  bool free_space_reasoning = true;
   // Points of the two clouds closer than this along a beam are the same surface.
   double merge_distance_m = 0.2;
   // Normals farther apart than this are different surfaces (no fusion).
@@ -28,6 +31,7 @@ struct MergerOptions {
 
   template <class V>
   void Visit(V& v) {
+    v("free_space_reasoning", free_space_reasoning);
     v("merge_distance_m", merge_distance_m);
     v("merge_normal_angle_rad", merge_normal_angle_rad);
     v("radial_merge", radial_merge);
