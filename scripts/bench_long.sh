@@ -45,31 +45,24 @@ for h in $(seq 1 "$HOURS"); do
   echo "bench_long.sh: hour $h done" >&2
 done
 
-/usr/bin/python3 - "$OUT" "$HOURS" "$sim_start" "$sim_end" <<'PY'
-import json, math, os, sys
+/usr/bin/python3 - "$OUT" "$HOURS" "$sim_start" "$sim_end" "$ROOT/scripts" <<'PY'
+import json, os, sys
 out, hours = sys.argv[1], int(sys.argv[2])
 sim_s = float(sys.argv[4]) - float(sys.argv[3])
-def poses(path):
-    d = {}
-    for line in open(path):
-        f = line.split()
-        if len(f) >= 4 and not line.startswith("#"):
-            d[round(float(f[0]), 3)] = (float(f[1]), float(f[2]))
-    return d
-truth = poses(os.path.join(out, "sim", "session_1_truth_trajectory.txt"))
+sys.dont_write_bytecode = True
+sys.path.insert(0, sys.argv[5])
+from trajectory_rmse import rmse
+truth = os.path.join(out, "sim", "session_1_truth_trajectory.txt")
 rows = []
 for h in range(1, hours + 1):
     s = json.load(open(os.path.join(out, "hour%d.stats.json" % h)))
-    est = poses(os.path.join(out, "hour%d.trajectory.txt" % h))
-    common = [t for t in est if t in truth]
-    rmse = math.sqrt(sum((est[t][0] - truth[t][0]) ** 2 + (est[t][1] - truth[t][1]) ** 2
-                         for t in common) / max(1, len(common)))
     g = s["graph"]
     rows.append({"hour": h, "wall_s": s["wall_time_s"], "rtf": s["real_time_factor"],
                  "nodes": g["nodes"],
                  "edges": g["edges_odometry"] + g["edges_loop_closure"] + g["edges_condensed"],
                  "file_mb": os.path.getsize(os.path.join(out, "hour%d.ltmap" % h)) / 1e6,
-                 "peak_rss_mb": s["peak_rss_mb"], "rmse_m": rmse})
+                 "peak_rss_mb": s["peak_rss_mb"],
+                 "rmse_m": rmse(os.path.join(out, "hour%d.trajectory.txt" % h), truth)})
 print("| hour | wall [s] | real-time factor | nodes | edges | map file [MB] | peak RSS [MB] | trajectory RMSE [m] |")
 print("|---|---|---|---|---|---|---|---|")
 for r in rows:

@@ -36,28 +36,21 @@ for k in $(seq 1 "$SESSIONS"); do
   mv "$dir.ltmap.tmp" "$dir/map.ltmap"
   "$BIN/evaluate_map" --map "$dir/map.yaml" --truth "$OUT/sim/session_${k}_truth.yaml" --json \
     --diff "$dir/difference.png" > "$dir/map_quality.json"
-  /usr/bin/python3 - "$dir" "$k" "$OUT/sim/session_${k}_truth_trajectory.txt" >> "$REPORT" <<'PY'
-import json, math, os, sys
+  /usr/bin/python3 - "$dir" "$k" "$OUT/sim/session_${k}_truth_trajectory.txt" "$ROOT/scripts" \
+    >> "$REPORT" <<'PY'
+import json, os, sys
 d, k, truth_path = sys.argv[1], sys.argv[2], sys.argv[3]
+sys.dont_write_bytecode = True
+sys.path.insert(0, sys.argv[4])
+from trajectory_rmse import rmse
 s = json.load(open(d + "/stats.json"))
 q = json.load(open(d + "/map_quality.json"))
-def poses(path):
-    out = {}
-    for line in open(path):
-        f = line.split()
-        if len(f) >= 4 and not line.startswith("#"):
-            out[round(float(f[0]), 3)] = (float(f[1]), float(f[2]))
-    return out
-est, truth = poses(d + "/trajectory.txt"), poses(truth_path)
-common = [t for t in est if t in truth]
-rmse = math.sqrt(sum((est[t][0] - truth[t][0]) ** 2 + (est[t][1] - truth[t][1]) ** 2
-                     for t in common) / max(1, len(common)))
 c = s["counters"]
 print("| %s | %d | %d | %.2f | %d | %d | %d | %.0f | %.3f | %.3f | %d | %.3f |" % (k,
       s["scans_read"], s["scans_processed"], s["wall_time_s"], s["graph"]["nodes"],
       c.get("loop_closures_accepted", 0), c.get("merges", 0),
       os.path.getsize(d + "/map.ltmap") / 1024.0, q["precision"], q["recall"], q["phantom_cells"],
-      rmse))
+      rmse(d + "/trajectory.txt", truth_path)))
 PY
 done
 

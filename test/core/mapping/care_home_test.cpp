@@ -15,6 +15,7 @@
 #include "longterm_mapper2d/core/map/grid_renderer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
+#include "testing/simulated_mapping.h"
 
 namespace longterm_mapper2d {
 namespace {
@@ -37,21 +38,13 @@ CareHomeSession MapCareHomeSession(const World& world, int session, const Sessio
   const auto steps = simulator.Run();
   Mapper mapper(options);
   if (previous) EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
-  for (const SimulatedStep& step : steps) {
-    ScanInput input;
-    input.scan = step.scan;
-    input.odom_T_base = step.odom_T_base;
-    input.base_T_laser = simulator.base_T_laser();
-    mapper.AddScan(input);
-  }
-  mapper.Finish();
+  test_support::MapSimulatedSteps(steps, simulator.base_T_laser(), mapper);
   CareHomeSession result;
-  const auto trajectory = mapper.Trajectory();
+  const std::vector<double> errors = test_support::PositionErrors(mapper, steps);
+  EXPECT_EQ(errors.size(), steps.size());
   double sum_sq = 0.0;
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    sum_sq += (trajectory[i].pose.translation() - steps[i].map_T_base.translation()).squaredNorm();
-  }
-  result.rmse_m = std::sqrt(sum_sq / steps.size());
+  for (const double error_m : errors) sum_sq += error_m * error_m;
+  result.rmse_m = std::sqrt(sum_sq / errors.size());
   auto grid = RenderOccupancyGrid(mapper.WaypointScans(), mapper.options().grid);
   EXPECT_TRUE(grid.ok()) << grid.status().message();
   result.grid = *grid;

@@ -5,6 +5,7 @@
 #include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
+#include "testing/simulated_mapping.h"
 
 namespace longterm_mapper2d {
 namespace {
@@ -33,20 +34,10 @@ SessionResult MapSession(const World& world, int session, const SessionMap* prev
   if (previous) {
     EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
   }
-  for (const SimulatedStep& step : steps) {
-    ScanInput input;
-    input.scan = step.scan;
-    input.odom_T_base = step.odom_T_base;
-    input.base_T_laser = simulator.base_T_laser();
-    mapper.AddScan(input);
-  }
-  mapper.Finish();
+  test_support::MapSimulatedSteps(steps, simulator.base_T_laser(), mapper);
   SessionResult result;
-  const auto trajectory = mapper.Trajectory();
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    result.max_error_m = std::max(
-        result.max_error_m,
-        (trajectory[i].pose.translation() - steps[i].map_T_base.translation()).norm());
+  for (const double error_m : test_support::PositionErrors(mapper, steps)) {
+    result.max_error_m = std::max(result.max_error_m, error_m);
   }
   result.session_id = mapper.session_id();
   result.map = mapper.ExportSession();
@@ -143,8 +134,8 @@ TEST(MultiSession, LocalizationTracksOnAFrozenMap) {
     mapper.AddScan(input);
     if (i > steps.size() / 4) {
       const Pose2 estimate = mapper.map_T_odom() * steps[i].odom_T_base;
-      late_error = std::max(late_error,
-                            (estimate.translation() - steps[i].map_T_base.translation()).norm());
+      late_error =
+          std::max(late_error, (estimate.translation() - steps[i].map_T_base.translation()).norm());
     }
   }
   mapper.Finish();
@@ -169,7 +160,7 @@ TEST(MultiSession, ModesSwitchBothWays) {
   ASSERT_TRUE(world.ok());
   Mapper empty(MapperOptions{});
   EXPECT_FALSE(empty.SetMode(MapperMode::kLocalization).ok());  // no map yet
-  EXPECT_FALSE(empty.OptimizeNow().ok());                        // nothing to optimise
+  EXPECT_FALSE(empty.OptimizeNow().ok());                       // nothing to optimise
   SimulationOptions simulation;
   simulation.duration_s = 90.0;
   SessionSimulator simulator(*world, 1, simulation, 5);

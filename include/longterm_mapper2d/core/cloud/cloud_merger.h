@@ -71,13 +71,13 @@ RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight);
 //   |d| <= tau              -> the same surface: fused if the normals agree, with one more
 //                              observation if the return lies within the static distance of the
 //                              old point's line, and 0 otherwise (it moved);
-// Observation counts (RichPoint::observations): a point added to an empty bin starts at 1; one
-// added in front of an old point or replacing one starts at 0 (it appeared where a beam had
-// passed, or where something was), so moving things never reach the tracker's target threshold.
 //   no new return           -> the old point is erased only if the beam proves free space past it
 //                              (a no-return beam up to free_space_max_range_m, or a return
 //                              farther than the cloud's range); bins the scan did not observe
 //                              (invalid readings, outside the field of view) are never touched.
+// Observation counts (RichPoint::observations): a point added to an empty bin starts at 1; one
+// added in front of an old point or replacing one starts at 0 (it appeared where a beam had
+// passed, or where something was), so moving things never reach the tracker's target threshold.
 // `map` and `scan_points` are in one frame F, frame_T_laser is the laser pose in F, and
 // `scan_beams[i]` is the beam of scan_points[i].
 class CloudMerger {

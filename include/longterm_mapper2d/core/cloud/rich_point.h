@@ -7,14 +7,15 @@
 
 namespace longterm_mapper2d {
 
+// Observation counts saturate here (weeks of merges sum them).
+inline constexpr int kMaxObservations = 1 << 20;
+
 // A 2D point with a unit normal and an accumulated weight (the "extended point" of NICP).
 // A point built from a beam of range r starts with weight 1/r, so far points count less in every
 // weighted fusion. A point whose neighbourhood gave no reliable normal has normal = (0, 0).
 // `observations` counts the scans that saw the surface at the same place; the merger sets it to 0
 // when a return lands off the old surface or appears where a beam had passed (CloudMerger), so
 // something that moves between scans stays at 0.
-inline constexpr int kMaxObservations = 1 << 20;  // counts saturate (weeks of merges)
-
 struct RichPoint {
   Eigen::Vector2d point_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d normal = Eigen::Vector2d::Zero();
