@@ -92,9 +92,7 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   const std::vector<NodeId> removed(ids.begin(), ids.end() - 1);
 
   // The graph first: if condensation refuses, nothing has changed.
-  const CondensationMode mode = options_.maintenance.condensation == "whole_graph"
-                                    ? CondensationMode::kWholeGraph
-                                    : CondensationMode::kLocal;
+  const CondensationMode mode = *CondensationModeFromName(options_.maintenance.condensation);
   PoseGraph graph = graph_;
   const auto report = RemoveNodesCondensed(graph, removed, survivor, mode, session_id_,
                                            nodes_.at(survivor).stamp_s);

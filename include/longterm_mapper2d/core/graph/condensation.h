@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,30 +14,38 @@ namespace longterm_mapper2d {
 enum class CondensationMode {
   // The principled version: the local factor set (the edges touching the removed nodes) is
   // optimised with the gauge fixed and marginalised exactly (a dense Schur complement); the
-  // result becomes one star edge from the gauge to each neighbour, scaled so that it is never
-  // more confident than the exact marginal.
-  kLocal,
+  // result becomes a spanning tree of edges over the gauge and the neighbours, made of the most
+  // certain relative poses of that marginal, scaled so that it is never more confident than it.
+  kLocalTree,
+  // The same marginal kept as one star edge from the gauge to each neighbour (the neighbours'
+  // correlations are lost, so the conservative scale weakens the star), as ALGORITHMS.md §14 puts
+  // it.
+  kLocalStar,
   // The released code's version: marginals of each neighbour from the whole graph (information
   // that the surviving edges also carry is counted twice), no scaling.
   kWholeGraph,
 };
 
+// The mode a `maintenance.condensation` option names ("local_tree", "local_star", "whole_graph").
+std::optional<CondensationMode> CondensationModeFromName(const std::string& name);
+
 struct CondensationReport {
   int removed_nodes = 0;
   int removed_edges = 0;
-  int added_edges = 0;    // new condensed edges
-  int fused_edges = 0;    // condensed information fused into an edge that already joined the pair
-  int composed_edges = 0; // from the composed-path fallback (rank-deficient local system)
-  int dropped_edges = 0;  // neighbours left without any information to keep
-  double scale = 1.0;     // the conservative scale of the last local star (1: exact)
+  int added_edges = 0;     // new condensed edges
+  int fused_edges = 0;     // condensed information fused into an edge that already joined the pair
+  int composed_edges = 0;  // from the composed-path fallback (rank-deficient local system)
+  int dropped_edges = 0;   // neighbours left without any information to keep
+  double scale = 1.0;      // the conservative scale of the last local tree or star (1: exact)
 };
 
 // Removes `removed` from the graph and replaces the information their edges carried about the
-// remaining nodes by condensed edges from `gauge` (a remaining node, normally the one that now
-// holds the merged local map) to each neighbour of the removed nodes. A neighbour reached only
-// through removed nodes that do not touch the gauge gets its star from the newest neighbour of
-// its own connected part instead. If the gauge of the graph is removed, `gauge` becomes it.
-// New and fused edges have kind kCondensed and carry `session_id` and `stamp_s`.
+// remaining nodes by condensed edges among `gauge` (a remaining node, normally the one that now
+// holds the merged local map) and the neighbours of the removed nodes (a tree or a star from the
+// gauge, by `mode`). A neighbour reached only through removed nodes that do not touch the gauge
+// is condensed with the newest neighbour of its own connected part as the gauge instead. If the
+// gauge of the graph is removed, `gauge` becomes it. New and fused edges have kind kCondensed and
+// carry `session_id` and `stamp_s`.
 StatusOr<CondensationReport> RemoveNodesCondensed(PoseGraph& graph,
                                                   const std::vector<GraphNodeId>& removed,
                                                   GraphNodeId gauge, CondensationMode mode,

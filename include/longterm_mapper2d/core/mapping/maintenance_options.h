@@ -4,6 +4,7 @@
 #include <string>
 
 #include "longterm_mapper2d/core/config/option_errors.h"
+#include "longterm_mapper2d/core/graph/condensation.h"
 
 namespace longterm_mapper2d {
 
@@ -11,9 +12,10 @@ namespace longterm_mapper2d {
 // into the newest one, the older node is removed, and condensed edges keep what it said.
 struct MaintenanceOptions {
   bool enabled = true;
-  // "local": marginals of the removed nodes' own edges, a conservative star (§14, the default);
-  // "whole_graph": marginals from the whole graph, as the released code does.
-  std::string condensation = "local";
+  // "local_tree": marginals of the removed nodes' own edges, kept as a conservative tree of the
+  // most certain relative poses (the default); "local_star": the same as a conservative star from
+  // the surviving node (§14); "whole_graph": marginals from the whole graph, as the released code.
+  std::string condensation = "local_tree";
   // A merged node keeps the old node's waypoints except those this close to one of its own (the
   // released code uses 0.1 m; old raw scans near new ones would paint moved furniture back into
   // the grid).
@@ -46,8 +48,8 @@ struct MaintenanceOptions {
     v("optimizer_iterations", optimizer_iterations);
   }
   void Validate(OptionErrors& e) const {
-    e.Require(condensation == "local" || condensation == "whole_graph", "condensation",
-              "must be 'local' or 'whole_graph'");
+    e.Require(CondensationModeFromName(condensation).has_value(), "condensation",
+              "must be 'local_tree', 'local_star' or 'whole_graph'");
     e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m", "must be non-negative");
     e.Require(waypoint_merge_angle_rad >= 0.0, "waypoint_merge_angle_rad", "must be non-negative");
     e.Require(merge_distance_m > 0.0, "merge_distance_m", "must be positive");
