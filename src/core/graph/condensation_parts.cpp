@@ -15,8 +15,12 @@
 namespace longterm_mapper2d {
 namespace {
 
-// Relative eigenvalue below which the local system counts as rank deficient.
-constexpr double kRankTolerance = 1e-10;
+// Relative eigenvalue below which the local system counts as rank deficient. Small: a local
+// system legitimately spans closures (information 1e3) and nodes that earlier merges left
+// loosely tied (1e-7), and each part refused here falls back to composed paths, whose star keeps
+// only 1/k of the information. With 1e-10, weak edges bred weaker ones until, after six hours of
+// patrol, the loop closer's marginals failed and no node merged any more.
+constexpr double kRankTolerance = 1e-14;
 
 Eigen::Matrix3d Symmetric(const Eigen::Matrix3d& m) { return 0.5 * (m + m.transpose()); }
 

@@ -138,6 +138,31 @@ TEST(Mapper, SkipsScansWhileOdometryStandsStillButGivesThemPoses) {
   }
 }
 
+TEST(Mapper, ScansWithDuplicateStampsAreSkippedAndChangeNothing) {
+  // A driver glitch publishes every scan twice with the same stamp: the copy has no motion since
+  // the original, so it is skipped, gets the original's pose, and the map is the same as without.
+  Drive drive = MakeDrive(20, 0.12, 9);
+  Mapper once(MapperOptions{}), twice(MapperOptions{});
+  for (const auto& input : drive.inputs) {
+    once.AddScan(input);
+    twice.AddScan(input);
+    twice.AddScan(input);
+  }
+  once.Finish();
+  twice.Finish();
+  EXPECT_EQ(twice.stats().scans_processed, once.stats().scans_processed);
+  EXPECT_EQ(twice.stats().scans_skipped.at("no_motion"), 20u);
+  EXPECT_EQ(twice.nodes().size(), once.nodes().size());
+  const auto a = once.Trajectory(), b = twice.Trajectory();
+  ASSERT_EQ(b.size(), 2 * a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(b[2 * i].stamp_s, a[i].stamp_s);
+    EXPECT_EQ(b[2 * i + 1].stamp_s, a[i].stamp_s);
+    EXPECT_LT((b[2 * i].pose.translation() - a[i].pose.translation()).norm(), 1e-9);
+    EXPECT_LT((b[2 * i + 1].pose.translation() - a[i].pose.translation()).norm(), 1e-9);
+  }
+}
+
 TEST(Mapper, ATrackerFailureResetsTheLocalMapAndStartsANode) {
   Drive drive = MakeDrive(40, 0.12, 6);
   // Scan 25 sees a different world (a kidnap of the laser's view): registration must reject it.
