@@ -8,6 +8,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <tuple>
 
 #include "longterm_mapper2d/core/graph/condensation.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
@@ -157,45 +158,50 @@ bool LocalTreeEdges(const PoseGraph& graph, const CondensationPart& part,
     }
     return c;
   };
-  auto label = [&](int u, int v) {
-    const auto [from, to] = Oriented(graph, id_of(u), id_of(v));
-    const bool swapped = from != id_of(u);
-    const int f = swapped ? v : u, t = swapped ? u : v;
-    Eigen::MatrixXd c;
-    if (f == 0 || t == 0) {
-      c = pair_covariance(0, f == 0 ? t : f);
-    } else {
-      c = pair_covariance(f, t);
-    }
+  // The edge u -> v labelled from the marginal; `orient` turns it like an edge that already
+  // joins the pair. Orientation does not change det S (the two errors differ by a map of unit
+  // determinant), so the tree is chosen on unoriented edges and only its edges are oriented.
+  auto label = [&](int u, int v, bool orient) {
+    GraphNodeId from = id_of(u), to = id_of(v);
+    if (orient) std::tie(from, to) = Oriented(graph, from, to);
+    const int f = from == id_of(u) ? u : v, t = from == id_of(u) ? v : u;
+    const Eigen::MatrixXd c =
+        f == 0 || t == 0 ? pair_covariance(0, f == 0 ? t : f) : pair_covariance(f, t);
     GraphEdge edge = Labelled(graph.node(from).pose, graph.node(to).pose, f != 0, t != 0, c);
     edge.from = from;
     edge.to = to;
     return edge;
   };
+  // -log det of each candidate edge's information (infinite if it has none), then Prim.
+  const double none = std::numeric_limits<double>::infinity();
+  Eigen::MatrixXd weight = Eigen::MatrixXd::Constant(k + 1, k + 1, none);
+  for (int u = 0; u <= k; ++u) {
+    for (int v = std::max(u + 1, 1); v <= k; ++v) {
+      const GraphEdge edge = label(u, v, false);
+      if (PositiveDefinite(edge.information)) {
+        weight(u, v) = weight(v, u) = -std::log(edge.information.determinant());
+      }
+    }
+  }
   std::vector<bool> in_tree(k + 1, false);
   in_tree[0] = true;
   edges->clear();
   for (int added = 0; added < k; ++added) {
-    double best = std::numeric_limits<double>::infinity();
-    GraphEdge best_edge;
+    double best = none;
+    int best_u = -1, best_v = -1;
     for (int u = 0; u <= k; ++u) {
       if (!in_tree[u]) continue;
       for (int v = 1; v <= k; ++v) {
-        if (in_tree[v]) continue;
-        const GraphEdge edge = label(u, v);
-        if (!PositiveDefinite(edge.information)) continue;
-        const double weight = -std::log(edge.information.determinant());
-        if (weight < best) {
-          best = weight;
-          best_edge = edge;
+        if (!in_tree[v] && weight(u, v) < best) {
+          best = weight(u, v);
+          best_u = u;
+          best_v = v;
         }
       }
     }
-    if (!std::isfinite(best)) return false;
-    for (int v = 1; v <= k; ++v) {
-      if (id_of(v) == best_edge.from || id_of(v) == best_edge.to) in_tree[v] = true;
-    }
-    edges->push_back(best_edge);
+    if (best_v < 0) return false;
+    in_tree[best_v] = true;
+    edges->push_back(label(best_u, best_v, true));
   }
   // The tree's information on the neighbours against the joint one.
   PoseGraph tree;
