@@ -76,7 +76,9 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
               old.has_normal() ? std::abs(old.normal.dot(offset)) : offset.norm();
           const double static_m =
               options_.static_distance_m + options_.static_distance_per_m * r_new;
-          const int observations = moved_m <= static_m ? old.observations + 1 : 0;
+          // A return already known to move (observations 0, see MotionFilter) resets too.
+          const int observations =
+              moved_m <= static_m && p.observations > 0 ? old.observations + 1 : 0;
           old = Fuse(old, p, options_.max_weight);
           old.observations = observations;
           ++stats.fused;

@@ -135,6 +135,24 @@ TEST(CloudMerger, ObservationCountsGrowInPlaceAndDropWhenSomethingMoves) {
   EXPECT_EQ(map[0].observations, 0);
 }
 
+TEST(CloudMerger, AReturnKnownToMoveResetsTheCountInPlace) {
+  // The motion filter marks a scan point as moving with 0 observations: fused in place, it still
+  // leaves the surface unconfirmed (a slow walker moves less than the noise between two scans).
+  CloudMerger merger(NoThinning());
+  Cloud map;
+  LaserScan scan = FiveBeams({kNoReturn, kNoReturn, 4.0f, kNoReturn, kNoReturn});
+  NewData data = PointsOf(scan);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  ASSERT_EQ(map.size(), 1u);
+  ASSERT_EQ(map[0].observations, 2);
+  data.points[0].observations = 0;
+  const MergeStats stats = merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0);
+  EXPECT_EQ(stats.fused, 1);
+  ASSERT_EQ(map.size(), 1u);
+  EXPECT_EQ(map[0].observations, 0);
+}
+
 TEST(CloudMerger, PointsAppearingWhereABeamHadPassedStartUnconfirmed) {
   CloudMerger merger(NoThinning());
   // In front of a known wall (the space was seen free): 0 observations; the wall keeps its own.

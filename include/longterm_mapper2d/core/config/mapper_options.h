@@ -9,6 +9,7 @@
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closing_options.h"
 #include "longterm_mapper2d/core/mapping/maintenance_options.h"
+#include "longterm_mapper2d/core/mapping/motion_filter.h"
 #include "longterm_mapper2d/core/mapping/tracker_options.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
 #include "longterm_mapper2d/core/config/option_errors.h"
@@ -24,6 +25,7 @@ struct MapperOptions {
   RegistrationOptions registration;
   MergerOptions merger;
   TrackerOptions tracker;
+  MotionFilterOptions motion_filter;
   SessionOptions session;
   LocalizationOptions localization;
   LoopClosingOptions loop_closing;
@@ -38,6 +40,7 @@ struct MapperOptions {
     v.Section("registration", registration);
     v.Section("merger", merger);
     v.Section("tracker", tracker);
+    v.Section("motion_filter", motion_filter);
     v.Section("session", session);
     v.Section("localization", localization);
     v.Section("loop_closing", loop_closing);
@@ -51,6 +54,7 @@ struct MapperOptions {
     e.Section("registration", registration);
     e.Section("merger", merger);
     e.Section("tracker", tracker);
+    e.Section("motion_filter", motion_filter);
     e.Section("session", session);
     e.Section("localization", localization);
     e.Section("loop_closing", loop_closing);

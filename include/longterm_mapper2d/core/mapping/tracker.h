@@ -6,6 +6,7 @@
 #include "longterm_mapper2d/core/cloud/range_projector.h"
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
+#include "longterm_mapper2d/core/mapping/motion_filter.h"
 #include "longterm_mapper2d/core/registration/nicp.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
 
@@ -48,6 +49,8 @@ class Tracker {
   void MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
                          const std::vector<int>& beams, const Pose2& tracker_T_base,
                          MapperStats& stats);
+  // Marks the scan points of things seen moving (MotionFilter) and keeps the scan as a reference.
+  void MarkMovingPoints(const ScanInput& input, Cloud& base_points, MapperStats& stats);
   // The local map's points used as registration targets (TrackerOptions::min_target_observations)
   // for a scan taken from tracker_T_laser.
   const Cloud& RegistrationTargets(const Pose2& tracker_T_laser, const ProjectorGeometry& geometry);
@@ -55,8 +58,10 @@ class Tracker {
   MapperOptions options_;
   Nicp nicp_;
   CloudMerger merger_;
+  MotionFilter motion_filter_;
   Cloud local_map_;
-  Cloud targets_;  // reused buffers of RegistrationTargets()
+  std::vector<char> moving_;  // per scan point, from motion_filter_
+  Cloud targets_;             // reused buffers of RegistrationTargets()
   RangeImage view_;
   bool initialized_ = false;
   Eigen::Vector2d last_clip_position_ = Eigen::Vector2d::Zero();
