@@ -36,8 +36,8 @@ struct MotionFilterOptions {
   int min_object_points = 3;
   // A beam with no return went at least this far.
   double no_return_free_m = 10.0;
-  // More than this share of a scan moving means odometry, not the world, moved (a kidnapped robot,
-  // wheels slipping): nothing is marked.
+  // More than this share of a scan's points with evidence of motion (before pooling per object)
+  // means odometry, not the world, moved (a kidnapped robot, wheels slipping): nothing is marked.
   double max_moving_fraction = 0.3;
 
   template <class V>
