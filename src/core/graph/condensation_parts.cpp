@@ -22,8 +22,6 @@ namespace {
 // only 1/k of the information. With 1e-10, weak edges bred weaker ones until, after six hours of
 // patrol, the loop closer's marginals failed and no node merged any more.
 constexpr double kRankTolerance = 1e-14;
-// Relative ridge on a part's information before its marginal is taken (NeighbourCovariance).
-constexpr double kRidge = 1e-12;
 
 Eigen::Matrix3d Symmetric(const Eigen::Matrix3d& m) { return 0.5 * (m + m.transpose()); }
 
@@ -61,23 +59,8 @@ bool NeighbourCovariance(const PoseGraph& graph, const CondensationPart& part,
                          Eigen::MatrixXd* sigma) {
   std::vector<GraphNodeId> order = part.neighbours;
   order.insert(order.end(), part.removed.begin(), part.removed.end());
-  Eigen::MatrixXd information = DenseInformation(graph, part.edges, order);
-  if (!PositiveDefinite(information)) {
-    // Numerically, not structurally, singular: a neighbour the factor set barely ties (an edge of
-    // 1e-11 against closures of 1e3) keeps the little information it has, plus a ridge of kRidge
-    // times the largest eigenvalue (slightly more confident than exact, for that neighbour
-    // only), instead of failing the whole part. Failed parts fall back to composed paths, whose
-    // weak edges made the next parts fail in turn: with the gauge node kept for good, ten hours
-    // of patrol went from one such neighbour at hour 4 to a graph the loop closer could no longer
-    // invert at hour 7. A variable no edge informs at all still fails.
-    if (information.size() == 0 || !information.allFinite() ||
-        (information.diagonal().array() <= 0.0).any()) {
-      return false;
-    }
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information, Eigen::EigenvaluesOnly);
-    information.diagonal().array() += kRidge * eig.eigenvalues().maxCoeff();
-    if (!PositiveDefinite(information)) return false;
-  }
+  const Eigen::MatrixXd information = DenseInformation(graph, part.edges, order);
+  if (!PositiveDefinite(information)) return false;
   const Eigen::MatrixXd covariance =
       information.ldlt().solve(Eigen::MatrixXd::Identity(information.rows(), information.cols()));
   const int n = 3 * static_cast<int>(part.neighbours.size());

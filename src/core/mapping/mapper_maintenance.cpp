@@ -59,12 +59,7 @@ void Mapper::MergeReadySets() {
   requeued_merges_.clear();
 }
 
-void Mapper::MergeSet(std::vector<NodeId> ids) {
-  if (options_.maintenance.keep_gauge_node && graph_.gauge()) {
-    const auto gauge = std::find(ids.begin(), ids.end() - 1, *graph_.gauge());
-    if (gauge != ids.end() - 1) ids.erase(gauge);
-    if (ids.size() < 2) return;
-  }
+void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   ScopedStageTimer timer(stats_.stage_times, "maintenance");
   OptimizeGraph(options_.maintenance.optimizer_iterations);
   const std::set<NodeId> members(ids.begin(), ids.end());

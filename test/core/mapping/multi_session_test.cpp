@@ -109,35 +109,6 @@ TEST(MultiSession, MaintenanceKeepsTheGraphTheSizeOfTheRoom) {
   EXPECT_LT(nodes[1][2], 1.5 * nodes[1][0]) << nodes[1][0] << " -> " << nodes[1][2];
 }
 
-// maintenance.keep_gauge_node: the node that fixes the map frame survives every merge and every
-// session (the rest of its merge sets still merge), and the graph stays the size of the room.
-TEST(MultiSession, TheGaugeNodeCanBeKeptForGood) {
-  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
-  ASSERT_TRUE(world.ok());
-  MapperOptions options = WithMaintenance(true);
-  options.maintenance.keep_gauge_node = true;
-  std::optional<SessionMap> previous;
-  NodeId gauge = 0;
-  std::size_t first_nodes = 0;
-  for (int session = 1; session <= 3; ++session) {
-    const SessionResult result =
-        MapSession(*world, session, previous ? &*previous : nullptr, options);
-    EXPECT_LT(result.max_error_m, 0.05) << "session " << session;
-    if (session == 1) {
-      gauge = result.map.gauge;
-      first_nodes = result.map.nodes.size();
-    }
-    EXPECT_EQ(result.map.gauge, gauge) << "session " << session;
-    EXPECT_TRUE(result.map.nodes.count(gauge)) << "session " << session;
-    if (session > 1) {
-      EXPECT_GT(result.merges, 0u);
-    }
-    previous = ParseSessionMap(SerializeSessionMap(result.map), "session.ltmap").value();
-  }
-  // One node more than merging it away allows: the room takes 4 nodes.
-  EXPECT_LE(previous->nodes.size(), 1.5 * first_nodes);
-}
-
 // Localization on a saved map: the robot is tracked in the map's frame (even from a wrong
 // initial pose), and the map is not changed.
 TEST(MultiSession, LocalizationTracksOnAFrozenMap) {

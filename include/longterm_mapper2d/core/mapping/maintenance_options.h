@@ -33,14 +33,6 @@ struct MaintenanceOptions {
   double max_closure_chi2 = 9.0;
   // Optimisation before and after each merge (iterations).
   int optimizer_iterations = 5;
-  // On: the gauge node (the first node of the first session, which fixes the map frame) is never
-  // merged away; the rest of its merge set still merges into the newest node. Off (default): the
-  // gauge passes to the survivor, whose estimate is frozen error included, so over hours of
-  // revisits the frame turns by a random walk (ten hours of patrol: 0.54 degrees, up to 0.18 m
-  // RMSE; on: 0.016-0.040 m every hour). Not the default because the kept node's cloud and
-  // waypoints are never renewed: in the demo its old scans paint moved furniture back into the
-  // grid (precision after sessions 2 and 3: 0.891 and 0.814 against 0.965 and 0.945).
-  bool keep_gauge_node = false;
 
   template <class V>
   void Visit(V& v) {
@@ -54,13 +46,11 @@ struct MaintenanceOptions {
     v("align_min_correspondences", align_min_correspondences);
     v("max_closure_chi2", max_closure_chi2);
     v("optimizer_iterations", optimizer_iterations);
-    v("keep_gauge_node", keep_gauge_node);
   }
   void Validate(OptionErrors& e) const {
     e.Require(CondensationModeFromName(condensation).has_value(), "condensation",
               "must be 'local_tree', 'local_star' or 'whole_graph'");
-    e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m",
-              "must be non-negative");
+    e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m", "must be non-negative");
     e.Require(waypoint_merge_angle_rad >= 0.0, "waypoint_merge_angle_rad", "must be non-negative");
     e.Require(merge_distance_m > 0.0, "merge_distance_m", "must be positive");
     e.Require(align_min_inlier_ratio >= 0.0 && align_min_inlier_ratio <= 1.0,

@@ -104,7 +104,7 @@ class Mapper {
   // its newest node and the older nodes are removed with condensed edges.
   void QueueMerges(const std::vector<GraphEdge>& closures);
   void MergeReadySets();
-  void MergeSet(std::vector<NodeId> ids);
+  void MergeSet(const std::vector<NodeId>& ids);
   // Localization (mapper_localization.cpp): aligns the tracker's local map to the map.
   void MaybeLocalize(const Pose2& tracker_T_base);
   // map_T_tracker for the open stretch (the last node's correction applies to it).
