@@ -1,7 +1,8 @@
 // Real-data tier: long-term mapping of intel over many sessions with offline_mapper (save, load,
-// map again). Ten sessions of the whole bag from the docking station must leave a graph and a
-// file the size of the building, not of the robot's life, at the accuracy of the first session;
-// three consecutive parts of the bag, each continuing the previous map, must keep the graph small.
+// map again). Twenty sessions of the whole bag from the docking station must leave a graph, a
+// file and a memory footprint the size of the building, not of the robot's life, at the accuracy
+// of the first session; three consecutive parts of the bag, each continuing the previous map,
+// must keep the graph small.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -22,6 +23,7 @@ struct Session {
   int nodes = 0;
   double file_bytes = 0.0;
   double error_m = 0.0;
+  double peak_rss_mb = 0.0;
 };
 
 std::string ReadFile(const std::string& path) {
@@ -51,31 +53,42 @@ Session MapSession(const std::string& data, const std::string& args, const std::
                               ".txt --stats " + prefix + ".json");
   EXPECT_EQ(run.exit_code, 0) << run.output;
   Session session;
-  session.nodes = GraphNodes(ReadFile(prefix + ".json"));
+  const std::string stats = ReadFile(prefix + ".json");
+  session.nodes = GraphNodes(stats);
+  session.peak_rss_mb = JsonNumber(stats, "peak_rss_mb");
   struct stat info {};
   if (::stat((prefix + ".ltmap").c_str(), &info) == 0) session.file_bytes = info.st_size;
   session.error_m = RelationError(data, prefix + ".txt");
   return session;
 }
 
-TEST(RealDataMultiSession, TenSessionsOfIntelStayTheSizeOfTheBuilding) {
+// Issue 5 asks, after ten sessions: at most 1.3x the nodes and 1.5x the file of session 1, and
+// session 10 within 10 % of session 1's relation error. Issue 8 asks twenty sessions without a
+// crash, peak RSS after session 20 within 1.2x of after session 2, and a flat file (here: session
+// 20 within 1.2x of session 2, and every session within the ten-session bounds).
+TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
   LTM_REQUIRE_REAL_DATA(data);
   const std::string dir = TempDir();
   std::vector<Session> sessions;
-  for (int s = 1; s <= 10; ++s) {
+  for (int s = 1; s <= 20; ++s) {
     const std::string previous =
         s == 1 ? "" : " --load-map " + dir + "/session" + std::to_string(s - 1) + ".ltmap";
     sessions.push_back(MapSession(data, previous, dir + "/session" + std::to_string(s)));
-    std::printf("session %d: %d nodes, %.1f MB, relation error %.3f m\n", s, sessions.back().nodes,
-                sessions.back().file_bytes / 1e6, sessions.back().error_m);
+    std::printf("session %d: %d nodes, %.2f MB, peak RSS %.1f MB, relation error %.3f m\n", s,
+                sessions.back().nodes, sessions.back().file_bytes / 1e6,
+                sessions.back().peak_rss_mb, sessions.back().error_m);
     std::fflush(stdout);
+    ASSERT_GT(sessions.back().nodes, 0) << "session " << s;
   }
-  const Session& first = sessions.front();
-  const Session& last = sessions.back();
-  ASSERT_GT(first.nodes, 0);
-  EXPECT_LE(last.nodes, 1.3 * first.nodes);
-  EXPECT_LE(last.file_bytes, 1.5 * first.file_bytes);
-  EXPECT_LE(last.error_m, 1.1 * first.error_m);
+  const Session& first = sessions[0];
+  const Session& second = sessions[1];
+  for (std::size_t k = 1; k < sessions.size(); ++k) {
+    EXPECT_LE(sessions[k].nodes, 1.3 * first.nodes) << "session " << k + 1;
+    EXPECT_LE(sessions[k].file_bytes, 1.5 * first.file_bytes) << "session " << k + 1;
+  }
+  EXPECT_LE(sessions[9].error_m, 1.1 * first.error_m);
+  EXPECT_LE(sessions[19].file_bytes, 1.2 * second.file_bytes);
+  EXPECT_LE(sessions[19].peak_rss_mb, 1.2 * second.peak_rss_mb);
 }
 
 // Three consecutive parts of the bag, each starting where the previous one ended. The graph is

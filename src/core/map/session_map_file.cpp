@@ -86,6 +86,7 @@ std::string SerializeSessionMap(const SessionMap& map) {
     for (const Waypoint& w : node.waypoints) {
       WritePose(payload, w.node_T_base);
       WritePose(payload, w.base_T_laser);
+      payload.Write<std::int32_t>(w.session_id);
       WriteScan(payload, w.scan);
     }
   }
@@ -175,9 +176,14 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     node.waypoints.resize(waypoints);
     for (Waypoint& w : node.waypoints) {
       if (!ReadPose(r, w.node_T_base, "waypoint pose") ||
-          !ReadPose(r, w.base_T_laser, "waypoint laser pose") || !ReadScan(r, w.scan)) {
+          !ReadPose(r, w.base_T_laser, "waypoint laser pose")) {
         break;
       }
+      // Before version 3 waypoints had no session of their own: the node's is the best guess.
+      std::int32_t waypoint_session = session;
+      if (version >= 3 && !r.Read(waypoint_session, "waypoint session")) break;
+      w.session_id = waypoint_session;
+      if (!ReadScan(r, w.scan)) break;
     }
     if (r.ok() && !map.nodes.emplace(node.id, std::move(node)).second) {
       return fail("node " + std::to_string(id) + " appears twice");

@@ -140,7 +140,8 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   const Pose2 node_T_tracker = tracker_T_base.inverse();
   node.cloud = Transform(node_T_tracker, tracker_.local_map());
   for (PendingWaypoint& w : pending_waypoints_) {
-    node.waypoints.push_back({node_T_tracker * w.tracker_T_base, w.base_T_laser, std::move(w.scan)});
+    node.waypoints.push_back(
+        {node_T_tracker * w.tracker_T_base, w.base_T_laser, std::move(w.scan), session_id_});
   }
   pending_waypoints_.clear();
   for (std::size_t i = first_pending_entry_; i < trajectory_.size(); ++i) {

@@ -7,6 +7,7 @@
 #include "longterm_mapper2d/core/graph/condensation.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
+#include "longterm_mapper2d/core/mapping/waypoint_thinning.h"
 
 namespace longterm_mapper2d {
 
@@ -39,6 +40,7 @@ void Mapper::MergeReadySets() {
     referenced.insert(c.old);
   }
   std::vector<std::pair<NodeId, NodeId>> waiting;
+  const auto merges_before = stats_.counters["merges"];
   for (auto& [root, ids] : sets) {
     const bool busy =
         std::any_of(ids.begin(), ids.end(), [&](NodeId id) { return referenced.count(id) > 0; });
@@ -57,6 +59,11 @@ void Mapper::MergeReadySets() {
   merge_queue_ = std::move(waiting);
   merge_queue_.insert(merge_queue_.end(), requeued_merges_.begin(), requeued_merges_.end());
   requeued_merges_.clear();
+  if (options_.maintenance.drop_waypoints_seen_again && stats_.counters["merges"] > merges_before) {
+    stats_.counters["waypoints_dropped_seen_again"] +=
+        DropWaypointsSeenAgain(&nodes_, options_.maintenance.waypoint_merge_distance_m,
+                               options_.maintenance.waypoint_merge_angle_rad);
+  }
 }
 
 void Mapper::MergeSet(const std::vector<NodeId>& ids) {

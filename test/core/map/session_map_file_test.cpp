@@ -39,7 +39,12 @@ SessionMap SmallMap() {
     w.scan.range_min_m = 0.1;
     w.scan.range_max_m = 30.0;
     w.scan.ranges = {1.0f, 2.5f, std::numeric_limits<float>::infinity(), 3.0f};
+    w.session_id = node.session_id;
     node.waypoints.push_back(w);
+    if (id == 7) {
+      w.session_id = 0;  // merged in from an older session
+      node.waypoints.push_back(w);
+    }
     map.nodes.emplace(id, node);
   }
   GraphEdge odometry;
@@ -66,6 +71,9 @@ TEST(SessionMapFile, RoundTripIsByteIdentical) {
   EXPECT_EQ(parsed->edges[1].kind, EdgeKind::kLoopClosure);
   EXPECT_EQ(parsed->nodes.at(7).session_id, 1);
   EXPECT_EQ(parsed->nodes.at(4).waypoints[0].scan.ranges.size(), 4u);
+  ASSERT_EQ(parsed->nodes.at(7).waypoints.size(), 2u);
+  EXPECT_EQ(parsed->nodes.at(7).waypoints[0].session_id, 1);
+  EXPECT_EQ(parsed->nodes.at(7).waypoints[1].session_id, 0);
   EXPECT_EQ(SerializeSessionMap(*parsed), bytes);
 }
 
@@ -114,20 +122,56 @@ TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
   EXPECT_NE(parsed.status().message().find("implausible count"), std::string::npos);
 }
 
-TEST(SessionMapFile, VersionOneFilesLoadWithTheFirstNodeAsOrigin) {
+// A one-node map with one waypoint, and its payload in the layout of an older format version:
+// version 2 lacks the waypoint's session (4 bytes after its two poses), version 1 also the origin.
+SessionMap OneNodeMap() {
   SessionMap map = SmallMap();
+  map.nodes.erase(4);
+  map.nodes.erase(7);
+  map.edges.clear();
   map.origin = Pose2(7.0, 8.0, 0.5);
-  const std::string v2 = SerializeSessionMap(map);
-  // Version 1: the same payload without the origin (24 bytes after sessions and gauge).
+  map.nodes.at(3).session_id = 1;
+  map.nodes.at(3).waypoints[0].session_id = 0;
+  return map;
+}
+
+std::string OlderPayload(const SessionMap& map, std::uint32_t version) {
+  const std::string v3 = SerializeSessionMap(map);
   constexpr std::size_t kHeader = 24, kOriginAt = kHeader + 4 + 8;
-  const std::string body = v2.substr(kHeader, kOriginAt - kHeader) + v2.substr(kOriginAt + 24);
-  const auto parsed = ParseSessionMap(FileWith(1, body), "old.ltmap");
+  const std::size_t node_at = kOriginAt + 24 + 8;
+  const std::size_t points = map.nodes.begin()->second.cloud.size();
+  const std::size_t waypoint_session_at = node_at + 8 + 4 + 8 + 24 + 8 + 40 * points + 8 + 48;
+  std::string body = v3.substr(kHeader, waypoint_session_at - kHeader) +
+                     v3.substr(waypoint_session_at + 4);
+  if (version == 1) body.erase(kOriginAt - kHeader, 24);
+  return body;
+}
+
+TEST(SessionMapFile, VersionOneFilesLoadWithTheFirstNodeAsOrigin) {
+  const SessionMap map = OneNodeMap();
+  const auto parsed = ParseSessionMap(FileWith(1, OlderPayload(map, 1)), "old.ltmap");
   ASSERT_TRUE(parsed.ok()) << parsed.status().message();
   EXPECT_EQ(parsed->nodes.size(), map.nodes.size());
   EXPECT_NEAR(parsed->origin.x(), map.nodes.begin()->second.map_T_node.x(), 1e-12);
   EXPECT_NEAR(parsed->origin.y(), map.nodes.begin()->second.map_T_node.y(), 1e-12);
   // Version 2 keeps its own origin.
-  EXPECT_NEAR(ParseSessionMap(v2, "new.ltmap")->origin.x(), 7.0, 1e-12);
+  const auto v2 = ParseSessionMap(FileWith(2, OlderPayload(map, 2)), "v2.ltmap");
+  ASSERT_TRUE(v2.ok()) << v2.status().message();
+  EXPECT_NEAR(v2->origin.x(), 7.0, 1e-12);
+}
+
+TEST(SessionMapFile, WaypointsOfOlderVersionsTakeTheSessionOfTheirNode) {
+  const SessionMap map = OneNodeMap();
+  const auto v2 = ParseSessionMap(FileWith(2, OlderPayload(map, 2)), "v2.ltmap");
+  ASSERT_TRUE(v2.ok()) << v2.status().message();
+  const Waypoint& w = v2->nodes.at(3).waypoints.at(0);
+  EXPECT_EQ(w.session_id, 1);
+  EXPECT_EQ(w.scan.ranges.size(), 4u);
+  EXPECT_NEAR(w.base_T_laser.x(), 0.22, 1e-12);
+  // Saved again, it is a version 3 file that differs from the original only in that session.
+  SessionMap expected = map;
+  expected.nodes.at(3).waypoints[0].session_id = 1;
+  EXPECT_EQ(SerializeSessionMap(*v2), SerializeSessionMap(expected));
 }
 
 TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {

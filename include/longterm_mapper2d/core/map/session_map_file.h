@@ -22,14 +22,15 @@ struct SessionMap {
   Pose2 origin;
 };
 
-// The session map file (.ltmap), version 2, little-endian:
+// The session map file (.ltmap), version 3, little-endian:
 //   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
 //   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
 //   take the first node's pose), nodes, edges (counts as uint64, values as written by
-//   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle).
+//   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle). Each waypoint
+//   carries its own int32 session after its two poses since version 3 (older files: the node's).
 // Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
 // allocation. Serialising a parsed map gives the same bytes.
-constexpr std::uint32_t kSessionMapVersion = 2;
+constexpr std::uint32_t kSessionMapVersion = 3;
 std::string SerializeSessionMap(const SessionMap& map);
 StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
 

@@ -14,11 +14,13 @@ using NodeId = std::int64_t;
 
 // A pose of the robot along a local map's stretch of trajectory, with the raw scan taken there.
 // Waypoints render the occupancy grid and give the viewpoints of virtual scans when local maps
-// merge.
+// merge. `session_id` is the session that took the scan (a merged node holds several sessions'),
+// so that newer views can replace older ones of the same place across sessions.
 struct Waypoint {
   Pose2 node_T_base;
   Pose2 base_T_laser;
   LaserScan scan;
+  int session_id = 0;
 };
 
 // A graph node: a local map (cloud and waypoints, both in the node frame). The node pose is the

@@ -21,6 +21,9 @@ struct MaintenanceOptions {
   // the grid).
   double waypoint_merge_distance_m = 0.5;
   double waypoint_merge_angle_rad = 0.785;  // 45 degrees
+  // After merges, waypoints of earlier sessions that a newer session's waypoint covers (the two
+  // distances above, on any node) are dropped, so the map file stops growing with the sessions.
+  bool drop_waypoints_seen_again = true;
   // Virtual scans from the new map's waypoints merge into the old map with this threshold.
   double merge_distance_m = 0.1;
   // Each virtual scan is first aligned to the merged cloud (nearest neighbours); the correction is
@@ -40,6 +43,7 @@ struct MaintenanceOptions {
     v("condensation", condensation);
     v("waypoint_merge_distance_m", waypoint_merge_distance_m);
     v("waypoint_merge_angle_rad", waypoint_merge_angle_rad);
+    v("drop_waypoints_seen_again", drop_waypoints_seen_again);
     v("merge_distance_m", merge_distance_m);
     v("align_virtual_scans", align_virtual_scans);
     v("align_min_inlier_ratio", align_min_inlier_ratio);
