@@ -5,6 +5,7 @@
 #include <set>
 
 #include "longterm_mapper2d/core/graph/condensation.h"
+#include "longterm_mapper2d/core/graph/edge_pruning.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/mapping/waypoint_thinning.h"
@@ -135,6 +136,8 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
                               }),
                edges_.end());
   graph_ = std::move(graph);
+  stats_.counters["condensed_edges_pruned"] +=
+      PruneNegligibleCondensedEdges(&graph_, options_.maintenance.prune_edge_ratio);
   ++stats_.counters["merges"];
   stats_.counters["nodes_removed"] += removed.size();
   stats_.counters["condensed_edges_added"] += report.value().added_edges;

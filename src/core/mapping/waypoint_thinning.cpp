@@ -16,7 +16,10 @@ struct Placed {
   std::size_t index;
 };
 
-std::int64_t CellKey(std::int64_t cx, std::int64_t cy) { return (cx << 32) ^ (cy & 0xffffffff); }
+// Cells packed into one key (shifting the unsigned pattern: a negative cell must not be shifted).
+std::uint64_t CellKey(std::int64_t cx, std::int64_t cy) {
+  return (static_cast<std::uint64_t>(cx) << 32) ^ static_cast<std::uint32_t>(cy);
+}
 
 }  // namespace
 
@@ -39,7 +42,7 @@ int DropWaypointsSeenAgain(std::map<NodeId, LocalMapNode>* nodes, double distanc
     return std::make_pair(static_cast<std::int64_t>(std::floor(pose.x() / cell_m)),
                           static_cast<std::int64_t>(std::floor(pose.y() / cell_m)));
   };
-  std::unordered_map<std::int64_t, std::vector<Pose2>> kept;
+  std::unordered_map<std::uint64_t, std::vector<Pose2>> kept;
   auto covered = [&](const Pose2& pose) {
     const auto [cx, cy] = cell_of(pose);
     for (std::int64_t dx = -1; dx <= 1; ++dx) {

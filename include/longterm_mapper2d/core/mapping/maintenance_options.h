@@ -34,6 +34,10 @@ struct MaintenanceOptions {
   // A merge is irreversible: a set whose closures the optimised graph does not agree with (chi2 of
   // a closure edge above this) is not merged.
   double max_closure_chi2 = 9.0;
+  // After each merge, condensed edges weaker in every direction than this fraction of the
+  // weakest direction of the strongest other edge at both their nodes are removed, if their
+  // nodes stay connected (0: never). See graph/edge_pruning.h.
+  double prune_edge_ratio = 1e-6;
   // Optimisation before and after each merge (iterations).
   int optimizer_iterations = 5;
 
@@ -49,6 +53,7 @@ struct MaintenanceOptions {
     v("align_min_inlier_ratio", align_min_inlier_ratio);
     v("align_min_correspondences", align_min_correspondences);
     v("max_closure_chi2", max_closure_chi2);
+    v("prune_edge_ratio", prune_edge_ratio);
     v("optimizer_iterations", optimizer_iterations);
   }
   void Validate(OptionErrors& e) const {
@@ -61,6 +66,8 @@ struct MaintenanceOptions {
               "align_min_inlier_ratio", "must be in [0, 1]");
     e.Require(align_min_correspondences >= 0, "align_min_correspondences", "must be non-negative");
     e.Require(max_closure_chi2 > 0.0, "max_closure_chi2", "must be positive");
+    e.Require(prune_edge_ratio >= 0.0 && prune_edge_ratio < 1.0, "prune_edge_ratio",
+              "must be in [0, 1)");
     e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
   }
 };
