@@ -19,6 +19,20 @@ foreach(tool_source ${LTM_CORE_TOOLS})
   list(APPEND LTM_CORE_TOOL_TARGETS ${tool_name})
 endforeach()
 
+# The offline mapper's application (command line, CARMEN input, outputs) is ROS-free; the ROS build
+# links it with a bag reader (src/nodes/offline_mapper_main.cpp), the ROS-free build reads CARMEN
+# logs only, so the real-data tier also runs in a plain-CMake (sanitized) build.
+file(GLOB LTM_OFFLINE_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/src/tools/offline/*.cpp")
+list(FILTER LTM_OFFLINE_SOURCES EXCLUDE REGEX "_main\\.cpp$")
+add_library(longterm_mapper2d_offline ${LTM_OFFLINE_SOURCES})
+target_link_libraries(longterm_mapper2d_offline PUBLIC longterm_mapper2d_core)
+if(LTM_CORE_ONLY)
+  add_executable(offline_mapper
+                 "${CMAKE_CURRENT_SOURCE_DIR}/src/tools/offline/ros_free_offline_mapper_main.cpp")
+  target_link_libraries(offline_mapper longterm_mapper2d_offline)
+  list(APPEND LTM_CORE_TOOL_TARGETS offline_mapper)
+endif()
+
 # GoogleTest: catkin brings its own gtest targets; plain CMake uses the system package.
 if(TARGET gtest_main)
   set(LTM_GTEST_LIBS gtest_main gtest)

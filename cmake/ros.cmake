@@ -19,6 +19,8 @@ foreach(exe_source ${LTM_ROS_EXECUTABLES})
   target_link_libraries(${exe_name} longterm_mapper2d_ros)
   list(APPEND LTM_ROS_EXECUTABLE_TARGETS ${exe_name})
 endforeach()
+# offline_mapper is the core's offline application given a bag reader.
+target_link_libraries(offline_mapper longterm_mapper2d_offline)
 
 # ROS-layer unit tests (no roscore needed).
 file(GLOB LTM_ROS_TEST_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/ros/*_test.cpp")
@@ -32,23 +34,6 @@ if(LTM_ROS_TEST_SOURCES)
     LTM_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
   gtest_discover_tests(test_ros DISCOVERY_TIMEOUT 60
     PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS unit)
-endif()
-
-# Real-data tier: runs the built executables on ../shared/data. Each test skips itself (with the
-# reason) unless LTM_REAL_DATA=1 and the data folder exists; scripts/test.sh sets it under CI=true.
-file(GLOB LTM_REAL_DATA_TEST_SOURCES CONFIGURE_DEPENDS
-  "${CMAKE_CURRENT_SOURCE_DIR}/test/real_data/*_test.cpp")
-if(LTM_REAL_DATA_TEST_SOURCES)
-  add_executable(test_real_data ${LTM_REAL_DATA_TEST_SOURCES} ${LTM_TEST_SUPPORT})
-  target_link_libraries(test_real_data longterm_mapper2d_core ${LTM_GTEST_LIBS})
-  target_include_directories(test_real_data PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
-  target_compile_definitions(test_real_data PRIVATE
-    LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"
-    LTM_BIN_DIR="$<TARGET_FILE_DIR:offline_mapper>"
-    LTM_CONFIG_DIR="${CMAKE_CURRENT_SOURCE_DIR}/config")
-  add_dependencies(test_real_data ${LTM_ROS_EXECUTABLE_TARGETS} ${LTM_CORE_TOOL_TARGETS})
-  gtest_discover_tests(test_real_data DISCOVERY_TIMEOUT 60
-    PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS real_data TIMEOUT 1800)
 endif()
 
 # Integration tests with roscore: test/rostest/*.test, run through rostest by CTest. Their test
@@ -68,7 +53,7 @@ foreach(rostest_file ${LTM_ROSTESTS})
                        SKIP_RETURN_CODE 77)
 endforeach()
 
-install(TARGETS longterm_mapper2d_core longterm_mapper2d_ros ${LTM_ROS_EXECUTABLE_TARGETS}
+install(TARGETS longterm_mapper2d_core longterm_mapper2d_offline longterm_mapper2d_ros ${LTM_ROS_EXECUTABLE_TARGETS}
         ${LTM_CORE_TOOL_TARGETS}
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

@@ -2,6 +2,8 @@
 // truth of the Freiburg logs, compared with dead reckoning on the same data.
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include "real_data/real_data_support.h"
 
 namespace longterm_mapper2d {
@@ -20,7 +22,7 @@ struct Errors {
 Errors MapAndEvaluate(const std::string& data, const std::string& name, const std::string& config,
                       const std::string& dir) {
   const std::string trajectory = dir + "/" + name + config + ".txt";
-  std::string args = " --bag " + data + "/" + name + "/" + name + ".bag --trajectory " + trajectory;
+  std::string args = test_support::LogInput(data, name) + " --trajectory " + trajectory;
   if (!config.empty()) args += std::string(" --config ") + LTM_CONFIG_DIR + "/" + config + ".yaml";
   const auto run = RunCommand(Tool("offline_mapper") + args);
   EXPECT_EQ(run.exit_code, 0) << run.output;
@@ -58,6 +60,9 @@ struct SlamCase {
   double max_maintained_translation_m;   // the default
 };
 
+// Test names and failure messages show the log, not the struct's bytes.
+void PrintTo(const SlamCase& c, std::ostream* os) { *os << c.name; }
+
 int Nodes(const std::string& stats_json) {
   const auto pos = stats_json.find("\"graph\":");
   return pos == std::string::npos ? -1
@@ -90,11 +95,11 @@ TEST_P(RealDataSlam, LoopClosingRemovesTheDrift) {
 TEST_P(RealDataSlam, MaintenanceShrinksTheGraph) {
   LTM_REQUIRE_REAL_DATA(data);
   const std::string dir = TempDir();
-  const std::string bag = data + "/" + GetParam().name + "/" + GetParam().name + ".bag";
   int nodes[2];
   for (int maintained = 0; maintained < 2; ++maintained) {
     const std::string stats = dir + "/stats" + std::to_string(maintained) + ".json";
-    const auto run = RunCommand(Tool("offline_mapper") + " --bag " + bag + " --stats " + stats +
+    const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, GetParam().name) +
+                                " --stats " + stats +
                                 (maintained ? "" : " --no-maintenance"));
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const auto json = RunCommand("cat " + stats);

@@ -48,7 +48,7 @@ double RelationError(const std::string& data, const std::string& trajectory) {
 
 // One offline_mapper session; `args` selects the part of the bag and the map to continue.
 Session MapSession(const std::string& data, const std::string& args, const std::string& prefix) {
-  const auto run = RunCommand(Tool("offline_mapper") + " --bag " + data + "/intel/intel.bag " +
+  const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, "intel") + " " +
                               args + " --save-map " + prefix + ".ltmap --trajectory " + prefix +
                               ".txt --stats " + prefix + ".json");
   EXPECT_EQ(run.exit_code, 0) << run.output;
@@ -130,8 +130,8 @@ TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
     errors[maintained] = RelationError(data, all);
   }
   const std::string single = dir + "/single.txt";
-  const auto run = RunCommand(Tool("offline_mapper") + " --bag " + data +
-                              "/intel/intel.bag --trajectory " + single);
+  const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, "intel") +
+                              " --trajectory " + single);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const double single_error = RelationError(data, single);
   std::printf(

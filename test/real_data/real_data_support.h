@@ -57,6 +57,17 @@ inline CommandResult RunCommand(const std::string& command) {
   return result;
 }
 
+// offline_mapper's input option for a Freiburg log (intel, aces, fr079): its bag, or in the
+// ROS-free build (LTM_CORE_ONLY, e.g. the sanitized CI stage) its CARMEN copy, which holds the
+// same scans, stamps and odometry (SOURCES.md; RealDataIntel.BagAndCarmenLogGiveTheSame...).
+inline std::string LogInput(const std::string& data, const std::string& name) {
+#ifdef LTM_READS_BAGS
+  return " --bag " + data + "/" + name + "/" + name + ".bag";
+#else
+  return " --carmen " + data + "/" + name + "/" + name + ".reconstructed.clf";
+#endif
+}
+
 inline std::string Tool(const std::string& name) { return std::string(LTM_BIN_DIR) + "/" + name; }
 
 inline std::string TempDir() {

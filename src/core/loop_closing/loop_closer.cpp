@@ -135,7 +135,7 @@ std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cl
 }
 
 void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
-                            MapperStats& stats) {
+                            MapperStats& stats, bool heading_in_doubt) {
   if (!options_.enabled || !graph.HasNode(node)) return;
   const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats);
   if (candidates.empty()) return;
@@ -156,8 +156,21 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     if (accepted_pairs_.count({std::min(node, old), std::max(node, old)})) return;
     ++stats.counters["loop_closure_alignments"];
     const Pose2 guess = pose.Between(graph.node(old).pose);
-    const auto aligned =
+    auto aligned =
         AlignLocalMaps(cloud_of(node), cloud_of(old), {guess, Pose2(0.0, 0.0, guess.theta())});
+    if (!aligned && heading_in_doubt && options_.recovery_heading_steps > 0) {
+      // Turning in place, a wrong registration can leave the heading tens of degrees off, far
+      // beyond what the alignment corrects from the graph's guess: try the new node turned
+      // about itself. The vote still has to find the result consistent with others.
+      std::vector<Pose2> turned;
+      for (int k = 1; k <= options_.recovery_heading_steps; ++k) {
+        for (double sign : {1.0, -1.0}) {
+          turned.push_back(Pose2(0.0, 0.0, sign * k * options_.recovery_heading_step_rad) * guess);
+        }
+      }
+      ++stats.counters["loop_closure_alignments_turned"];
+      aligned = AlignLocalMaps(cloud_of(node), cloud_of(old), turned);
+    }
     if (!aligned) {
       if (degenerate_) ++stats.counters["loop_closure_alignments_degenerate"];
       return;

@@ -167,6 +167,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   }
   stretch_covariance_.setZero();
   stretch_after_failure_ = false;
+  if (after_failure && !doubtful_since_) doubtful_since_ = node.id;
   tracker_T_node_[node.id] = tracker_T_base;
   last_node_ = node.id;
   GraphNode graph_node;
@@ -212,8 +213,14 @@ void Mapper::CloseLoops(NodeId node, bool force) {
   ScopedStageTimer timer(stats_.stage_times, "loop_closing");
   loop_closer_.SearchFrom(
       graph_, node, [this](GraphNodeId id) -> const Cloud& { return nodes_.at(id).cloud; },
-      stats_);
+      stats_, doubtful_since_.has_value());
   const std::vector<GraphEdge> closures = loop_closer_.Vote(graph_, force, stats_);
+  for (const GraphEdge& edge : closures) {
+    if (doubtful_since_ && std::max(edge.from, edge.to) >= *doubtful_since_ &&
+        std::min(edge.from, edge.to) < *doubtful_since_) {
+      doubtful_since_.reset();
+    }
+  }
   for (const GraphEdge& edge : closures) graph_.AddEdge(edge);
   if (!closures.empty()) OptimizeGraph(options_.loop_closing.optimizer_iterations);
   QueueMerges(closures);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "testing/synthetic_scans.h"
 
@@ -38,6 +40,51 @@ TEST(LoopCloser, ASymmetricCorridorGivesNoClosure) {
   const auto aligned = closer.AlignLocalMaps(CloudAt(corridor, Pose2(0, 0, 0), 8.0),
                                              CloudAt(corridor, Pose2(4, 0, 0), 8.0), {Pose2()});
   EXPECT_FALSE(aligned.has_value());
+}
+
+TEST(LoopCloser, AfterATrackerFailureATurnedNodeIsStillAligned) {
+  // The new node, 6 m from the old one, has a heading 0.75 rad off in the graph (a wrong
+  // registration while turning in place): aligning from the graph's guess fails; in doubt, the
+  // turned guesses find the truth.
+  const auto room = test_support::IrregularRoom();
+  const Pose2 old_pose(-3.0, -1.0, 0.0), new_truth(2.5, 1.5, 0.3);
+  PoseGraph graph;
+  GraphNode old_node, new_node;
+  old_node.id = 0;
+  old_node.pose = old_pose;
+  new_node.id = 1;
+  new_node.pose = new_truth * Pose2(0.0, 0.0, 0.75);
+  ASSERT_TRUE(graph.AddNode(old_node).ok());
+  ASSERT_TRUE(graph.AddNode(new_node).ok());
+  GraphEdge weak;  // a merge's condensed edge: no odometry path, so node 0 is a candidate
+  weak.from = 0;
+  weak.to = 1;
+  weak.measurement = old_node.pose.Between(new_node.pose);
+  weak.information = 0.01 * Eigen::Matrix3d::Identity();
+  weak.kind = EdgeKind::kCondensed;
+  ASSERT_TRUE(graph.AddEdge(weak).ok());
+  const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
+                                               {1, CloudAt(room, new_truth, 8)}};
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  MapperStats stats;
+  LoopCloser confident(LoopClosingOptions{}, RegistrationOptions{});
+  confident.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_TRUE(confident.buffer().empty());
+  EXPECT_EQ(stats.counters["loop_closure_alignments"], 1u);
+  LoopCloser in_doubt(LoopClosingOptions{}, RegistrationOptions{});
+  in_doubt.SearchFrom(graph, 1, cloud_of, stats, true);
+  ASSERT_EQ(in_doubt.buffer().size(), 1u);
+  const Pose2 truth = new_truth.Between(old_pose);
+  const Pose2& found = in_doubt.buffer().front().local_T_old;
+  EXPECT_LT((found.translation() - truth.translation()).norm(), 0.02);
+  EXPECT_LT(std::abs(NormalizeAngle(found.theta() - truth.theta())), 0.01);
+  EXPECT_EQ(stats.counters["loop_closure_alignments_turned"], 1u);
+  // Switched off, doubt changes nothing.
+  LoopClosingOptions off;
+  off.recovery_heading_steps = 0;
+  LoopCloser plain(off, RegistrationOptions{});
+  plain.SearchFrom(graph, 1, cloud_of, stats, true);
+  EXPECT_TRUE(plain.buffer().empty());
 }
 
 // Old nodes 0..5 along a line; the robot comes back (nodes 10..15) with a rigid drift.

@@ -37,7 +37,9 @@ CareHomeSession MapCareHomeSession(const World& world, int session, const Sessio
   SessionSimulator simulator(world, session, simulation, seed);
   const auto steps = simulator.Run();
   Mapper mapper(options);
-  if (previous) EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
+  if (previous) {
+    EXPECT_TRUE(mapper.LoadSession(*previous, std::nullopt).ok());
+  }
   test_support::MapSimulatedSteps(steps, simulator.base_T_laser(), mapper);
   CareHomeSession result;
   const std::vector<double> errors = test_support::PositionErrors(mapper, steps);

@@ -30,9 +30,11 @@ class LoopCloser {
   using CloudOf = std::function<const Cloud&(GraphNodeId)>;
   LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration);
 
-  // Looks for closures of `node` and buffers the validated ones.
+  // Looks for closures of `node` and buffers the validated ones. `heading_in_doubt` (the node
+  // follows a tracker failure that no closure has settled yet) also tries the headings of
+  // LoopClosingOptions::recovery_heading_steps when the graph's guess does not align.
   void SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
-                  MapperStats& stats);
+                  MapperStats& stats, bool heading_in_doubt = false);
   // Runs the vote when due (or now, if `force`); returns the accepted closures as edges, never
   // one already accepted for the same pair. Ages the buffer.
   std::vector<GraphEdge> Vote(const PoseGraph& graph, bool force, MapperStats& stats);

@@ -30,6 +30,11 @@ struct LoopClosingOptions {
   // An alignment whose translation information is this much weaker along one axis than along the
   // other is degenerate (a corridor, a single wall): it cannot close a loop.
   double min_information_ratio = 1e-4;
+  // After a tracker failure, until a closure ties the new nodes to older ones, an alignment that
+  // fails from the graph's guess is tried again with the new node turned by +-k * step,
+  // k = 1..steps (0: never). Only then: for every node it would double the alignment time.
+  int recovery_heading_steps = 2;
+  double recovery_heading_step_rad = 0.35;
   // Information of a closure edge (x, y and theta).
   double closure_information_xy = 1000.0;
   double closure_information_theta = 300.0;
@@ -66,6 +71,8 @@ struct LoopClosingOptions {
     v("min_inlier_ratio", min_inlier_ratio);
     v("min_correspondences", min_correspondences);
     v("min_information_ratio", min_information_ratio);
+    v("recovery_heading_steps", recovery_heading_steps);
+    v("recovery_heading_step_rad", recovery_heading_step_rad);
     v("closure_information_xy", closure_information_xy);
     v("closure_information_theta", closure_information_theta);
     v("vote_inlier_chi2", vote_inlier_chi2);
@@ -92,6 +99,9 @@ struct LoopClosingOptions {
     e.Require(min_correspondences >= 3, "min_correspondences", "must be at least 3");
     e.Require(min_information_ratio >= 0.0 && min_information_ratio < 1.0, "min_information_ratio",
               "must be in [0, 1)");
+    e.Require(recovery_heading_steps >= 0, "recovery_heading_steps", "must be non-negative");
+    e.Require(recovery_heading_step_rad > 0.0 && recovery_heading_step_rad <= 1.6,
+              "recovery_heading_step_rad", "must be in (0, 1.6]");
     e.Require(closure_information_xy > 0.0 && closure_information_theta > 0.0,
               "closure_information_xy", "closure information must be positive");
     e.Require(vote_inlier_chi2 > 0.0, "vote_inlier_chi2", "must be positive");

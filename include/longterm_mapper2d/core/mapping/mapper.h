@@ -134,6 +134,9 @@ class Mapper {
   std::optional<Pose2> last_waypoint_tracker_T_base_;
   Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
   bool stretch_after_failure_ = false;
+  // The first node after a tracker failure, until a closure ties a node from it on to an older
+  // node: the heading of those nodes may be far off, so their closures are searched wider.
+  std::optional<NodeId> doubtful_since_;
 
   // Graph state: nodes, their tracker poses, edges.
   std::map<NodeId, LocalMapNode> nodes_;

@@ -1,4 +1,4 @@
-#include "longterm_mapper2d/ros/offline_mapper_app.h"
+#include "longterm_mapper2d/tools/offline_mapper_app.h"
 
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -21,12 +21,9 @@
 #include "longterm_mapper2d/core/map/session_map_file.h"
 #include "longterm_mapper2d/core/mapping/map_outputs.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
-#include "longterm_mapper2d/ros/bag_scan_source.h"
-#include "longterm_mapper2d/ros/progress_reporter.h"
+#include "longterm_mapper2d/tools/progress_reporter.h"
 
-namespace longterm_mapper2d_ros {
-
-using namespace longterm_mapper2d;  // NOLINT: a tool that drives the core
+namespace longterm_mapper2d {
 
 namespace {
 
@@ -35,7 +32,8 @@ constexpr char kUsage[] = R"(Usage: offline_mapper (--bag FILE [--bag FILE ...] 
 Maps recorded data with the same core as mapper_node, much faster than real time.
 
 Input:
-  --bag FILE            a ROS bag (repeatable; the bags are read as one recording)
+  --bag FILE            a ROS bag (repeatable; the bags are read as one recording; not in a
+                        ROS-free build, LTM_CORE_ONLY)
   --carmen FILE         a CARMEN log (FLASER, ROBOTLASER1, ODOM)
   --scan-topic TOPIC    sensor_msgs/LaserScan topic in the bags (default /scan)
   --odom-frame FRAME    odometry frame in /tf (default odom)
@@ -70,7 +68,7 @@ struct Arguments {
   std::optional<Pose2> initial_pose;
   bool print_config = false;
   bool no_maintenance = false;
-  BagReaderOptions bag;
+  RecordingOptions bag;
 };
 
 // Parses the command line; returns an error message, or empty on success.
@@ -195,7 +193,7 @@ JsonObject StatsJson(const Mapper& mapper, double wall_s, double data_duration_s
 
 }  // namespace
 
-int RunOfflineMapper(int argc, char** argv) {
+int RunOfflineMapper(int argc, char** argv, const RecordingOpener& open_bags) {
   Arguments args;
   bool help = false;
   if (const std::string error = Parse(argc, argv, args, help); !error.empty()) {
@@ -205,6 +203,11 @@ int RunOfflineMapper(int argc, char** argv) {
   if (help) {
     std::cout << kUsage;
     return 0;
+  }
+  if (!args.bags.empty() && !open_bags) {
+    std::cerr << "offline_mapper: this build reads no ROS bags (built without ROS, LTM_CORE_ONLY); "
+                 "give a CARMEN log with --carmen FILE\n";
+    return 2;
   }
   MapperOptions options;
   if (!args.config.empty()) {
@@ -264,10 +267,10 @@ int RunOfflineMapper(int argc, char** argv) {
     progress.Finish();
   } else {
     for (const auto& bag : args.bags) source += (source.empty() ? "" : ",") + bag;
-    StatusOr<std::unique_ptr<BagScanSource>> bags = Status::Error("not read");
+    StatusOr<std::unique_ptr<RecordedScans>> bags = Status::Error("not read");
     {
       ScopedStageTimer timer(io_times, "reading_odometry");
-      bags = BagScanSource::Open(args.bags, args.bag);
+      bags = open_bags(args.bags, args.bag);
     }
     if (!bags.ok()) {
       std::cerr << "offline_mapper: " << bags.status().message() << "\n";
@@ -283,7 +286,7 @@ int RunOfflineMapper(int argc, char** argv) {
       std::cerr << "offline_mapper: " << read.message() << "\n";
       return 2;
     }
-    scans_without_odometry = (*bags)->stats().scans_without_odometry;
+    scans_without_odometry = (*bags)->scans_without_odometry();
   }
   mapper.Finish();
   const double wall_s =
@@ -324,4 +327,4 @@ int RunOfflineMapper(int argc, char** argv) {
   return exit_code;
 }
 
-}  // namespace longterm_mapper2d_ros
+}  // namespace longterm_mapper2d

@@ -1,11 +1,11 @@
-#include "longterm_mapper2d/ros/progress_reporter.h"
+#include "longterm_mapper2d/tools/progress_reporter.h"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
 
-namespace longterm_mapper2d_ros {
+namespace longterm_mapper2d {
 
 ProgressReporter::ProgressReporter(std::uint64_t total)
     : total_(total),
@@ -42,4 +42,4 @@ void ProgressReporter::Finish() {
   std::fprintf(stderr, "\n");
 }
 
-}  // namespace longterm_mapper2d_ros
+}  // namespace longterm_mapper2d

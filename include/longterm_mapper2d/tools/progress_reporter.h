@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-namespace longterm_mapper2d_ros {
+namespace longterm_mapper2d {
 
 // A progress bar on stderr (percent, scans/s, ETA) when stderr is a terminal; silent otherwise
 // (the caller prints a one-line summary at the end).
@@ -22,4 +22,4 @@ class ProgressReporter {
   std::chrono::steady_clock::time_point last_draw_;
 };
 
-}  // namespace longterm_mapper2d_ros
+}  // namespace longterm_mapper2d
