@@ -50,7 +50,7 @@ double RelationError(const std::string& data, const std::string& trajectory) {
 Session MapSession(const std::string& data, const std::string& args, const std::string& prefix) {
   const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, "intel") + " " +
                               args + " --save-map " + prefix + ".ltmap --trajectory " + prefix +
-                              ".txt --stats " + prefix + ".json");
+                              ".txt --anchors " + prefix + ".anchors --stats " + prefix + ".json");
   EXPECT_EQ(run.exit_code, 0) << run.output;
   Session session;
   const std::string stats = ReadFile(prefix + ".json");
@@ -92,9 +92,10 @@ TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
 }
 
 // Three consecutive parts of the bag, each starting where the previous one ended. The graph is
-// bounded (at most 0.7x the nodes without maintenance). The issue asks for the three
-// trajectories together to score within 10 % of the single-session error; the bound below guards
-// what is reached today (README, "Long-term mapping") and is not that target yet.
+// bounded (at most 0.7x the nodes without maintenance), and the three trajectories together,
+// each put in the last map (reexpress_trajectory, as one session's trajectory follows its own
+// later corrections), score within 10 % of the single-session error. As each session wrote them
+// (frozen), the earlier parts miss the corrections of the later ones: a looser bound guards them.
 TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
   LTM_REQUIRE_REAL_DATA(data);
   const std::string dir = TempDir();
@@ -129,18 +130,29 @@ TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
     nodes[maintained] = session.nodes;
     errors[maintained] = RelationError(data, all);
   }
+  // The maintained run's parts, in the frame of its last map.
+  std::string anchors;
+  for (int s = 0; s < 3; ++s) {
+    anchors += " --anchors " + dir + "/part" + std::to_string(s) + "_1.anchors";
+  }
+  const std::string reexpressed = dir + "/reexpressed.txt";
+  const auto moved = RunCommand(Tool("reexpress_trajectory") + " --map " + dir + "/part2_1.ltmap" +
+                                anchors + " --out " + reexpressed);
+  ASSERT_EQ(moved.exit_code, 0) << moved.output;
+  const double reexpressed_error = RelationError(data, reexpressed);
   const std::string single = dir + "/single.txt";
   const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, "intel") +
                               " --trajectory " + single);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const double single_error = RelationError(data, single);
   std::printf(
-      "three parts: %d nodes (%d without maintenance), relation error %.3f m (%.3f m "
-      "without maintenance; one session %.3f m)\n",
-      nodes[1], nodes[0], errors[1], errors[0], single_error);
+      "three parts: %d nodes (%d without maintenance), relation error in the last map %.4f m, "
+      "as written %.4f m (%.4f m without maintenance); one session %.4f m\n",
+      nodes[1], nodes[0], reexpressed_error, errors[1], errors[0], single_error);
   ASSERT_GT(nodes[0], 0);
   EXPECT_LE(nodes[1], 0.7 * nodes[0]);
-  EXPECT_LT(errors[1], 0.3);
+  EXPECT_LE(reexpressed_error, 1.1 * single_error);
+  EXPECT_LT(errors[1], 0.2);
 }
 
 }  // namespace

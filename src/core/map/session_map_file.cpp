@@ -102,6 +102,12 @@ std::string SerializeSessionMap(const SessionMap& map) {
       for (int j = i; j < 3; ++j) payload.Write(e.information(i, j));
     }
   }
+  payload.Write<std::uint64_t>(map.removed_nodes.size());
+  for (const auto& [id, removed] : map.removed_nodes) {
+    payload.Write<std::int64_t>(id);
+    payload.Write<std::int64_t>(removed.survivor);
+    WritePose(payload, removed.survivor_T_removed);
+  }
   const std::string& body = payload.bytes();
   BinaryWriter file;
   file.WriteBytes(std::string(kMagic, sizeof(kMagic)));
@@ -221,8 +227,27 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     e.session_id = session;
     map.edges.push_back(e);
   }
+  std::uint64_t removed_count = 0;
+  if (version >= 4) r.ReadCount(removed_count, 8 + 8 + 24, "removed nodes");
+  for (std::uint64_t n = 0; n < removed_count && r.ok(); ++n) {
+    std::int64_t id = 0, survivor = 0;
+    RemovedNode removed;
+    r.Read(id, "removed node");
+    r.Read(survivor, "removed node survivor");
+    ReadPose(r, removed.survivor_T_removed, "removed node pose");
+    if (!r.ok()) break;
+    if (map.nodes.count(id)) return fail("node " + std::to_string(id) + " is removed and present");
+    if (!map.nodes.count(survivor)) {
+      return fail("removed node " + std::to_string(id) + " refers to a missing node");
+    }
+    if (!map.removed_nodes.empty() && map.removed_nodes.rbegin()->first >= id) {
+      return fail("removed node " + std::to_string(id) + " is out of id order");
+    }
+    removed.survivor = survivor;
+    map.removed_nodes.emplace(id, removed);
+  }
   if (!r.ok()) return fail(r.status().message());
-  if (r.remaining() != 0) return fail("unexpected bytes after the edges");
+  if (r.remaining() != 0) return fail("unexpected bytes after the removed nodes");
   if (!map.nodes.empty() && !map.nodes.count(map.gauge)) return fail("the gauge node is missing");
   if (version < 2 && !map.nodes.empty()) map.origin = map.nodes.begin()->second.map_T_node;
   return map;

@@ -290,6 +290,25 @@ std::vector<StampedPose2> Mapper::Trajectory() const {
   return trajectory;
 }
 
+std::vector<AnchoredPose> Mapper::TrajectoryAnchors() const {
+  std::vector<AnchoredPose> anchors;
+  anchors.reserve(trajectory_.size());
+  const Pose2 map_T_tracker = MapTTracker();
+  for (const auto& entry : trajectory_) {
+    if (entry.in_map || (!entry.attached && !last_node_)) {
+      anchors.push_back({entry.stamp_s, kMapFrame,
+                         entry.in_map ? entry.pose : map_T_tracker * entry.pose});
+    } else if (entry.attached) {
+      anchors.push_back({entry.stamp_s, entry.node, entry.pose});
+    } else {
+      const Pose2& map_T_last = nodes_.at(*last_node_).map_T_node;
+      anchors.push_back({entry.stamp_s, *last_node_,
+                         map_T_last.inverse() * map_T_tracker * entry.pose});
+    }
+  }
+  return anchors;
+}
+
 std::vector<PosedScan> Mapper::WaypointScans() const {
   std::vector<PosedScan> scans;
   for (const auto& [id, node] : nodes_) {
@@ -324,6 +343,7 @@ Status Mapper::LoadSession(const SessionMap& map, const std::optional<Pose2>& in
   if (Status s = graph.SetGauge(map.gauge); !s.ok()) return s;
   graph_ = std::move(graph);
   nodes_ = map.nodes;
+  removed_nodes_ = map.removed_nodes;
   session_id_ = map.sessions;
   next_node_id_ = map.nodes.rbegin()->first + 1;
   origin_ = map.origin;
@@ -349,6 +369,7 @@ SessionMap Mapper::ExportSession() const {
   map.edges = graph_.edges();
   map.gauge = graph_.gauge().value_or(nodes_.empty() ? 0 : nodes_.begin()->first);
   map.origin = origin_.value_or(Pose2());
+  map.removed_nodes = removed_nodes_;
   return map;
 }
 

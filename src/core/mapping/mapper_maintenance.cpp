@@ -118,13 +118,23 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
     stats_.counters["merge_virtual_scans_aligned"] += merged.aligned;
     stats_.counters["merge_points_erased"] += merged.merge.erased + merged.merge.replaced;
   }
-  // Scans of the removed stretches now hang off the survivor, where the graph put them.
+  // Scans of the removed stretches now hang off the survivor, where the graph put them; so do
+  // those of earlier sessions, through the removed nodes' record.
   const Pose2& map_T_survivor = nodes_.at(survivor).map_T_node;
   const std::set<NodeId> gone(removed.begin(), removed.end());
   for (TrajectoryEntry& entry : trajectory_) {
     if (!entry.attached || !gone.count(entry.node)) continue;
     entry.pose = map_T_survivor.Between(nodes_.at(entry.node).map_T_node) * entry.pose;
     entry.node = survivor;
+  }
+  for (auto& [id, record] : removed_nodes_) {
+    if (!gone.count(record.survivor)) continue;
+    record.survivor_T_removed =
+        map_T_survivor.Between(nodes_.at(record.survivor).map_T_node) * record.survivor_T_removed;
+    record.survivor = survivor;
+  }
+  for (NodeId id : removed) {
+    removed_nodes_[id] = {survivor, map_T_survivor.Between(nodes_.at(id).map_T_node)};
   }
   for (NodeId id : removed) {
     nodes_.erase(id);

@@ -19,6 +19,7 @@
 #include "longterm_mapper2d/core/io/json_writer.h"
 #include "longterm_mapper2d/core/io/trajectory_io.h"
 #include "longterm_mapper2d/core/map/session_map_file.h"
+#include "longterm_mapper2d/core/map/trajectory_anchors.h"
 #include "longterm_mapper2d/core/mapping/map_outputs.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/tools/progress_reporter.h"
@@ -51,6 +52,8 @@ Sessions:
   --no-maintenance        keep every node (no merging of revisited local maps), for comparison
 Output:
   --trajectory FILE     `stamp x y theta` per input scan: base in the map frame, final estimate
+  --anchors FILE        `stamp node x y theta` per input scan: base in its local map's frame;
+                        reexpress_trajectory puts it in a later session's map
   --stats FILE.json     scans read/processed/skipped, wall time, peak RSS, time per stage
   --output-dir DIR      map.pgm/map.yaml/map.png, trajectory.txt and stats.json in DIR
   --help                this text
@@ -61,6 +64,7 @@ struct Arguments {
   std::string carmen;
   std::string config;
   std::string trajectory;
+  std::string anchors;
   std::string stats;
   std::string output_dir;
   std::string load_map;
@@ -100,6 +104,8 @@ std::string Parse(int argc, char** argv, Arguments& args, bool& help) {
       ok = need_value(i, args.config);
     } else if (arg == "--trajectory") {
       ok = need_value(i, args.trajectory);
+    } else if (arg == "--anchors") {
+      ok = need_value(i, args.anchors);
     } else if (arg == "--stats") {
       ok = need_value(i, args.stats);
     } else if (arg == "--output-dir") {
@@ -310,6 +316,7 @@ int RunOfflineMapper(int argc, char** argv, const RecordingOpener& open_bags) {
     }
   }
   if (!args.trajectory.empty()) report(WriteTrajectory(args.trajectory, mapper.Trajectory()));
+  if (!args.anchors.empty()) report(WriteTrajectoryAnchors(args.anchors, mapper.TrajectoryAnchors()));
   if (!args.stats.empty()) report(WriteFileAtomically(args.stats, stats.ToString() + "\n"));
   if (!args.output_dir.empty()) {
     report(WriteMapOutputs(mapper, args.output_dir));

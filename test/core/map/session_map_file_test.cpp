@@ -59,6 +59,7 @@ SessionMap SmallMap() {
   closure.kind = EdgeKind::kLoopClosure;
   closure.session_id = 1;
   map.edges.push_back(closure);
+  map.removed_nodes[5] = RemovedNode{7, Pose2(0.1, 0.2, 0.3)};
   return map;
 }
 
@@ -74,7 +75,23 @@ TEST(SessionMapFile, RoundTripIsByteIdentical) {
   ASSERT_EQ(parsed->nodes.at(7).waypoints.size(), 2u);
   EXPECT_EQ(parsed->nodes.at(7).waypoints[0].session_id, 1);
   EXPECT_EQ(parsed->nodes.at(7).waypoints[1].session_id, 0);
+  ASSERT_EQ(parsed->removed_nodes.size(), 1u);
+  EXPECT_EQ(parsed->removed_nodes.at(5).survivor, 7);
+  EXPECT_NEAR(parsed->removed_nodes.at(5).survivor_T_removed.theta(), 0.3, 1e-12);
   EXPECT_EQ(SerializeSessionMap(*parsed), bytes);
+}
+
+TEST(SessionMapFile, RemovedNodesMustPointAtNodesOfTheMap) {
+  SessionMap map = SmallMap();
+  map.removed_nodes[6] = RemovedNode{8, Pose2()};  // node 8 does not exist
+  auto parsed = ParseSessionMap(SerializeSessionMap(map), "dangling.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("refers to a missing node"), std::string::npos);
+  map = SmallMap();
+  map.removed_nodes[4] = RemovedNode{7, Pose2()};  // node 4 is still in the map
+  parsed = ParseSessionMap(SerializeSessionMap(map), "both.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("removed and present"), std::string::npos);
 }
 
 TEST(SessionMapFile, EveryTruncationIsRefusedWithAReason) {
@@ -123,12 +140,14 @@ TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
 }
 
 // A one-node map with one waypoint, and its payload in the layout of an older format version:
-// version 2 lacks the waypoint's session (4 bytes after its two poses), version 1 also the origin.
+// version 3 lacks the removed nodes (their count of 0 ends the payload), version 2 also the
+// waypoint's session (4 bytes after its two poses), version 1 also the origin.
 SessionMap OneNodeMap() {
   SessionMap map = SmallMap();
   map.nodes.erase(4);
   map.nodes.erase(7);
   map.edges.clear();
+  map.removed_nodes.clear();
   map.origin = Pose2(7.0, 8.0, 0.5);
   map.nodes.at(3).session_id = 1;
   map.nodes.at(3).waypoints[0].session_id = 0;
@@ -136,13 +155,13 @@ SessionMap OneNodeMap() {
 }
 
 std::string OlderPayload(const SessionMap& map, std::uint32_t version) {
-  const std::string v3 = SerializeSessionMap(map);
+  const std::string current = SerializeSessionMap(map);
   constexpr std::size_t kHeader = 24, kOriginAt = kHeader + 4 + 8;
   const std::size_t node_at = kOriginAt + 24 + 8;
   const std::size_t points = map.nodes.begin()->second.cloud.size();
   const std::size_t waypoint_session_at = node_at + 8 + 4 + 8 + 24 + 8 + 40 * points + 8 + 48;
-  std::string body = v3.substr(kHeader, waypoint_session_at - kHeader) +
-                     v3.substr(waypoint_session_at + 4);
+  std::string body = current.substr(kHeader, current.size() - kHeader - 8);
+  if (version <= 2) body.erase(waypoint_session_at - kHeader, 4);
   if (version == 1) body.erase(kOriginAt - kHeader, 24);
   return body;
 }
@@ -168,10 +187,20 @@ TEST(SessionMapFile, WaypointsOfOlderVersionsTakeTheSessionOfTheirNode) {
   EXPECT_EQ(w.session_id, 1);
   EXPECT_EQ(w.scan.ranges.size(), 4u);
   EXPECT_NEAR(w.base_T_laser.x(), 0.22, 1e-12);
-  // Saved again, it is a version 3 file that differs from the original only in that session.
+  // Saved again, it is a current-version file that differs from the original only in that
+  // session.
   SessionMap expected = map;
   expected.nodes.at(3).waypoints[0].session_id = 1;
   EXPECT_EQ(SerializeSessionMap(*v2), SerializeSessionMap(expected));
+}
+
+TEST(SessionMapFile, VersionThreeFilesLoadWithoutRemovedNodes) {
+  const SessionMap map = OneNodeMap();
+  const auto v3 = ParseSessionMap(FileWith(3, OlderPayload(map, 3)), "v3.ltmap");
+  ASSERT_TRUE(v3.ok()) << v3.status().message();
+  EXPECT_TRUE(v3->removed_nodes.empty());
+  EXPECT_EQ(v3->nodes.at(3).waypoints.at(0).session_id, 0);
+  EXPECT_EQ(SerializeSessionMap(*v3), SerializeSessionMap(map));
 }
 
 TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "longterm_mapper2d/core/map/session_map_file.h"
+#include "longterm_mapper2d/core/map/trajectory_anchors.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
 #include "testing/simulated_mapping.h"
@@ -12,6 +13,9 @@ namespace {
 
 struct SessionResult {
   SessionMap map;
+  std::vector<AnchoredPose> anchors;
+  std::vector<StampedPose2> trajectory;
+  std::vector<SimulatedStep> steps;
   double max_error_m = 0.0;
   int session_id = -1;
   std::uint64_t merges = 0;
@@ -41,6 +45,9 @@ SessionResult MapSession(const World& world, int session, const SessionMap* prev
   }
   result.session_id = mapper.session_id();
   result.map = mapper.ExportSession();
+  result.anchors = mapper.TrajectoryAnchors();
+  result.trajectory = mapper.Trajectory();
+  result.steps = steps;
   const auto merges = mapper.stats().counters.find("merges");
   result.merges = merges == mapper.stats().counters.end() ? 0 : merges->second;
   return result;
@@ -107,6 +114,45 @@ TEST(MultiSession, MaintenanceKeepsTheGraphTheSizeOfTheRoom) {
   }
   EXPECT_GT(nodes[0][2], 2.5 * nodes[0][0]);  // without maintenance: grows with every session
   EXPECT_LT(nodes[1][2], 1.5 * nodes[1][0]) << nodes[1][0] << " -> " << nodes[1][2];
+}
+
+// Each session's trajectory, kept as poses in its local maps, is found again in every later map,
+// through the nodes merged away since: in the current session exactly where the mapper puts it.
+TEST(MultiSession, EarlierTrajectoriesAreReexpressedInTheLatestMap) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  const SessionResult first = MapSession(*world, 1, nullptr);
+  const auto reloaded = ParseSessionMap(SerializeSessionMap(first.map), "session1.ltmap");
+  ASSERT_TRUE(reloaded.ok());
+  const SessionResult second = MapSession(*world, 2, &*reloaded);
+  ASSERT_GT(second.merges, 0u);
+  const auto after = ParseSessionMap(SerializeSessionMap(second.map), "session2.ltmap");
+  ASSERT_TRUE(after.ok());
+  // The current session: the same poses as the mapper's trajectory.
+  const auto current = ReexpressTrajectory(*after, second.anchors);
+  ASSERT_TRUE(current.ok()) << current.status().message();
+  ASSERT_EQ(current->size(), second.trajectory.size());
+  for (std::size_t i = 0; i < current->size(); ++i) {
+    EXPECT_LT((*current)[i].pose.Between(second.trajectory[i].pose).translation().norm(), 1e-9);
+    EXPECT_EQ((*current)[i].stamp_s, second.trajectory[i].stamp_s);
+  }
+  // The first session, many of whose local maps the second one merged away: still on the truth.
+  int through_removed = 0;
+  for (const AnchoredPose& anchor : first.anchors) through_removed += after->removed_nodes.count(anchor.node);
+  EXPECT_GT(through_removed, 0);
+  const auto earlier = ReexpressTrajectory(*after, first.anchors);
+  ASSERT_TRUE(earlier.ok()) << earlier.status().message();
+  ASSERT_EQ(earlier->size(), first.steps.size());
+  double max_error_m = 0.0;
+  for (std::size_t i = 0; i < earlier->size(); ++i) {
+    max_error_m = std::max(max_error_m, ((*earlier)[i].pose.translation() -
+                                         first.steps[i].map_T_base.translation()).norm());
+  }
+  EXPECT_LT(max_error_m, 0.05);
+  // A map that never had those nodes says so.
+  SessionMap other = *after;
+  other.removed_nodes.clear();
+  EXPECT_FALSE(ReexpressTrajectory(other, first.anchors).ok());
 }
 
 // Localization on a saved map: the robot is tracked in the map's frame (even from a wrong

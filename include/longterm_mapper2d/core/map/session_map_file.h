@@ -10,6 +10,13 @@
 
 namespace longterm_mapper2d {
 
+// A local map that maintenance merged away: where it sits in the node that took it over. The
+// poses of trajectories written against an earlier map (TrajectoryAnchors) are found through it.
+struct RemovedNode {
+  NodeId survivor = 0;  // a node of the map (chains are collapsed as nodes go)
+  Pose2 survivor_T_removed;
+};
+
 // Everything a later session needs: the local maps (pose, cloud, waypoints with their scans),
 // the graph edges with their kinds, the gauge, and how many sessions built it.
 struct SessionMap {
@@ -20,17 +27,21 @@ struct SessionMap {
   // Where the first session started (the docking station): the default start of later sessions.
   // Nodes there may be merged away; this pose stays.
   Pose2 origin;
+  // Every node removed so far, by id (40 bytes each in the file: an intel session removes ~190).
+  std::map<NodeId, RemovedNode> removed_nodes;
 };
 
-// The session map file (.ltmap), version 3, little-endian:
+// The session map file (.ltmap), version 4, little-endian:
 //   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
 //   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
 //   take the first node's pose), nodes, edges (counts as uint64, values as written by
 //   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle). Each waypoint
 //   carries its own int32 session after its two poses since version 3 (older files: the node's).
+//   Since version 4 the removed nodes follow the edges: a count, then per node int64 id, int64
+//   survivor and the pose survivor_T_removed (older files: none).
 // Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
 // allocation. Serialising a parsed map gives the same bytes.
-constexpr std::uint32_t kSessionMapVersion = 3;
+constexpr std::uint32_t kSessionMapVersion = 4;
 std::string SerializeSessionMap(const SessionMap& map);
 StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
 

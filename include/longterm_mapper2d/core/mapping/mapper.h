@@ -9,6 +9,7 @@
 #include "longterm_mapper2d/core/graph/pose_graph.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 #include "longterm_mapper2d/core/map/session_map_file.h"
+#include "longterm_mapper2d/core/map/trajectory_anchors.h"
 #include "longterm_mapper2d/core/mapping/local_map.h"
 #include "longterm_mapper2d/core/mapping/local_map_merger.h"
 #include "longterm_mapper2d/core/mapping/mapper_stats.h"
@@ -65,6 +66,9 @@ class Mapper {
 
   // map_T_base for every input scan, in input order, at the final estimate.
   std::vector<StampedPose2> Trajectory() const;
+  // The same poses as they hang off the local maps (the scans after the last node off it): a
+  // later session's map re-expresses them with every correction since (ReexpressTrajectory).
+  std::vector<AnchoredPose> TrajectoryAnchors() const;
   // The latest estimate of map_T_odom (what the node publishes on TF).
   Pose2 map_T_odom() const { return map_T_odom_; }
   // The raw scans kept as waypoints, placed in the map at the current estimate.
@@ -138,8 +142,9 @@ class Mapper {
   // node: the heading of those nodes may be far off, so their closures are searched wider.
   std::optional<NodeId> doubtful_since_;
 
-  // Graph state: nodes, their tracker poses, edges.
+  // Graph state: nodes, their tracker poses, edges, and the nodes merged away (of every session).
   std::map<NodeId, LocalMapNode> nodes_;
+  std::map<NodeId, RemovedNode> removed_nodes_;
   std::map<NodeId, Pose2> tracker_T_node_;
   std::vector<OdometryEdge> edges_;
   PoseGraph graph_;
