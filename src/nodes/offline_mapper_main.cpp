@@ -46,4 +46,6 @@ StatusOr<std::unique_ptr<RecordedScans>> OpenBags(const std::vector<std::string>
 
 }  // namespace
 
-int main(int argc, char** argv) { return longterm_mapper2d::RunOfflineMapper(argc, argv, OpenBags); }
+int main(int argc, char** argv) {
+  return longterm_mapper2d::RunOfflineMapper(argc, argv, OpenBags);
+}

@@ -212,8 +212,8 @@ void Mapper::CloseLoops(NodeId node, bool force) {
   if (!options_.loop_closing.enabled) return;
   ScopedStageTimer timer(stats_.stage_times, "loop_closing");
   loop_closer_.SearchFrom(
-      graph_, node, [this](GraphNodeId id) -> const Cloud& { return nodes_.at(id).cloud; },
-      stats_, doubtful_since_.has_value());
+      graph_, node, [this](GraphNodeId id) -> const Cloud& { return nodes_.at(id).cloud; }, stats_,
+      doubtful_since_.has_value());
   const std::vector<GraphEdge> closures = loop_closer_.Vote(graph_, force, stats_);
   for (const GraphEdge& edge : closures) {
     if (doubtful_since_ && std::max(edge.from, edge.to) >= *doubtful_since_ &&
@@ -296,14 +296,14 @@ std::vector<AnchoredPose> Mapper::TrajectoryAnchors() const {
   const Pose2 map_T_tracker = MapTTracker();
   for (const auto& entry : trajectory_) {
     if (entry.in_map || (!entry.attached && !last_node_)) {
-      anchors.push_back({entry.stamp_s, kMapFrame,
-                         entry.in_map ? entry.pose : map_T_tracker * entry.pose});
+      anchors.push_back(
+          {entry.stamp_s, kMapFrame, entry.in_map ? entry.pose : map_T_tracker * entry.pose});
     } else if (entry.attached) {
       anchors.push_back({entry.stamp_s, entry.node, entry.pose});
     } else {
       const Pose2& map_T_last = nodes_.at(*last_node_).map_T_node;
-      anchors.push_back({entry.stamp_s, *last_node_,
-                         map_T_last.inverse() * map_T_tracker * entry.pose});
+      anchors.push_back(
+          {entry.stamp_s, *last_node_, map_T_last.inverse() * map_T_tracker * entry.pose});
     }
   }
   return anchors;

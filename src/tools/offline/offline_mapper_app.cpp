@@ -5,10 +5,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,7 +28,8 @@ namespace longterm_mapper2d {
 
 namespace {
 
-constexpr char kUsage[] = R"(Usage: offline_mapper (--bag FILE [--bag FILE ...] | --carmen FILE) [options]
+constexpr char kUsage[] =
+    R"(Usage: offline_mapper (--bag FILE [--bag FILE ...] | --carmen FILE) [options]
 
 Maps recorded data with the same core as mapper_node, much faster than real time.
 
@@ -316,7 +317,9 @@ int RunOfflineMapper(int argc, char** argv, const RecordingOpener& open_bags) {
     }
   }
   if (!args.trajectory.empty()) report(WriteTrajectory(args.trajectory, mapper.Trajectory()));
-  if (!args.anchors.empty()) report(WriteTrajectoryAnchors(args.anchors, mapper.TrajectoryAnchors()));
+  if (!args.anchors.empty()) {
+    report(WriteTrajectoryAnchors(args.anchors, mapper.TrajectoryAnchors()));
+  }
   if (!args.stats.empty()) report(WriteFileAtomically(args.stats, stats.ToString() + "\n"));
   if (!args.output_dir.empty()) {
     report(WriteMapOutputs(mapper, args.output_dir));

@@ -23,9 +23,8 @@ SessionMap TwoNodesAndARemovedOne() {
 TEST(TrajectoryAnchors, PosesFollowTheirNodeOrTheNodeThatTookItOver) {
   const SessionMap map = TwoNodesAndARemovedOne();
   const Pose2 node_T_base(0.4, -0.2, 0.1);
-  const std::vector<AnchoredPose> anchors = {{1.0, 2, node_T_base},
-                                             {2.0, 4, node_T_base},
-                                             {3.0, kMapFrame, Pose2(5.0, 6.0, 0.7)}};
+  const std::vector<AnchoredPose> anchors = {
+      {1.0, 2, node_T_base}, {2.0, 4, node_T_base}, {3.0, kMapFrame, Pose2(5.0, 6.0, 0.7)}};
   const auto poses = ReexpressTrajectory(map, anchors);
   ASSERT_TRUE(poses.ok()) << poses.status().message();
   ASSERT_EQ(poses->size(), 3u);

@@ -138,15 +138,18 @@ TEST(MultiSession, EarlierTrajectoriesAreReexpressedInTheLatestMap) {
   }
   // The first session, many of whose local maps the second one merged away: still on the truth.
   int through_removed = 0;
-  for (const AnchoredPose& anchor : first.anchors) through_removed += after->removed_nodes.count(anchor.node);
+  for (const AnchoredPose& anchor : first.anchors) {
+    through_removed += after->removed_nodes.count(anchor.node);
+  }
   EXPECT_GT(through_removed, 0);
   const auto earlier = ReexpressTrajectory(*after, first.anchors);
   ASSERT_TRUE(earlier.ok()) << earlier.status().message();
   ASSERT_EQ(earlier->size(), first.steps.size());
   double max_error_m = 0.0;
   for (std::size_t i = 0; i < earlier->size(); ++i) {
-    max_error_m = std::max(max_error_m, ((*earlier)[i].pose.translation() -
-                                         first.steps[i].map_T_base.translation()).norm());
+    max_error_m = std::max(
+        max_error_m,
+        ((*earlier)[i].pose.translation() - first.steps[i].map_T_base.translation()).norm());
   }
   EXPECT_LT(max_error_m, 0.05);
   // A map that never had those nodes says so.
