@@ -1,8 +1,12 @@
 #!/usr/bin/env bash
 # Benchmark: offline_mapper on the Freiburg bags in ../shared/data. Prints per dataset the scans,
 # processed scans, nodes, wall time, real-time factor, time per stage and peak RSS, and the
-# relation error; writes the same to output/bench.json. Figures are measured, never asserted.
-# Usage: scripts/bench.sh [--no-build] [DATASET ...]   (default: intel aces fr079)
+# relation error; writes the same to output/bench.json. Then the multi-session run (N whole
+# intel sessions, each on the previous map: scripts/bench_sessions.sh, output/bench_sessions.json)
+# and, if asked, the long run (H hours of the simulated care home: scripts/bench_long.sh,
+# output/bench_long.json). Figures are measured, never asserted.
+# Usage: scripts/bench.sh [--no-build] [--sessions N (default 10, 0: none)] [--long H]
+#                         [DATASET ...]   (default: intel aces fr079)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 export PATH="/usr/bin:$PATH"
@@ -11,12 +15,18 @@ BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
 OUT="$ROOT/output/bench"
 
 BUILD=1
+SESSIONS=10
+HOURS=0
 DATASETS=()
-for arg in "$@"; do
-  case "$arg" in
+while [ $# -gt 0 ]; do
+  case "$1" in
     --no-build) BUILD=0 ;;
-    *) DATASETS+=("$arg") ;;
+    --sessions) SESSIONS="${2:?--sessions needs a number}"; shift ;;
+    --long) HOURS="${2:?--long needs a number of hours}"; shift ;;
+    -*) echo "bench.sh: unknown option '$1'" >&2; exit 2 ;;
+    *) DATASETS+=("$1") ;;
   esac
+  shift
 done
 [ ${#DATASETS[@]} -gt 0 ] || DATASETS=(intel aces fr079)
 if [ ! -d "$DATA" ]; then echo "bench.sh: no data folder at $DATA" >&2; exit 1; fi
@@ -68,3 +78,12 @@ for x in rows:
 json.dump(rows, open(os.path.join(os.path.dirname(out), "bench.json"), "w"), indent=2)
 print("\nbench.sh: wrote %s" % os.path.join(os.path.dirname(out), "bench.json"))
 PY
+
+if [ "$SESSIONS" -gt 0 ]; then
+  echo
+  bash "$ROOT/scripts/bench_sessions.sh" --no-build "$SESSIONS"
+fi
+if [ "$HOURS" -gt 0 ]; then
+  echo
+  bash "$ROOT/scripts/bench_long.sh" --no-build "$HOURS"
+fi
