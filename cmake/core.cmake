@@ -49,8 +49,8 @@ function(ltm_add_gtest_dir dir target)
   if(NOT sources)
     return()
   endif()
-  add_executable(${target} ${sources} ${ARGN})
-  target_link_libraries(${target} longterm_mapper2d_core ${LTM_GTEST_LIBS})
+  add_executable(${target} ${sources})
+  target_link_libraries(${target} ${ARGN} longterm_mapper2d_core ${LTM_GTEST_LIBS})
   target_include_directories(${target} PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
   target_compile_definitions(${target} PRIVATE
     LTM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
@@ -60,8 +60,14 @@ function(ltm_add_gtest_dir dir target)
     PROPERTIES SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]" LABELS unit)
 endfunction()
 
-# Test helpers shared by several test folders (synthetic worlds and the like).
-file(GLOB LTM_TEST_SUPPORT CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/testing/*.cpp")
+# Test helpers shared by several test folders (synthetic worlds and the like), compiled once.
+file(GLOB LTM_TEST_SUPPORT_SOURCES CONFIGURE_DEPENDS
+  "${CMAKE_CURRENT_SOURCE_DIR}/test/testing/*.cpp")
+add_library(longterm_mapper2d_test_support STATIC ${LTM_TEST_SUPPORT_SOURCES})
+target_link_libraries(longterm_mapper2d_test_support PUBLIC longterm_mapper2d_core ${LTM_GTEST_LIBS})
+target_include_directories(longterm_mapper2d_test_support PUBLIC
+  "${CMAKE_CURRENT_SOURCE_DIR}/test")
+set(LTM_TEST_SUPPORT longterm_mapper2d_test_support)
 
 file(GLOB LTM_CORE_TEST_DIRS LIST_DIRECTORIES true "${CMAKE_CURRENT_SOURCE_DIR}/test/core/*")
 foreach(dir ${LTM_CORE_TEST_DIRS})

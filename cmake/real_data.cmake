@@ -3,8 +3,8 @@
 file(GLOB LTM_REAL_DATA_TEST_SOURCES CONFIGURE_DEPENDS
   "${CMAKE_CURRENT_SOURCE_DIR}/test/real_data/*_test.cpp")
 if(LTM_REAL_DATA_TEST_SOURCES)
-  add_executable(test_real_data ${LTM_REAL_DATA_TEST_SOURCES} ${LTM_TEST_SUPPORT})
-  target_link_libraries(test_real_data longterm_mapper2d_core ${LTM_GTEST_LIBS})
+  add_executable(test_real_data ${LTM_REAL_DATA_TEST_SOURCES})
+  target_link_libraries(test_real_data ${LTM_TEST_SUPPORT} longterm_mapper2d_core ${LTM_GTEST_LIBS})
   target_include_directories(test_real_data PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
   target_compile_definitions(test_real_data PRIVATE
     LTM_SHARED_DATA_DIR="${LTM_SHARED_DATA_DIR}"

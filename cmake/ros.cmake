@@ -25,8 +25,8 @@ target_link_libraries(offline_mapper longterm_mapper2d_offline)
 # ROS-layer unit tests (no roscore needed).
 file(GLOB LTM_ROS_TEST_SOURCES CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/ros/*_test.cpp")
 if(LTM_ROS_TEST_SOURCES)
-  add_executable(test_ros ${LTM_ROS_TEST_SOURCES} ${LTM_TEST_SUPPORT})
-  target_link_libraries(test_ros longterm_mapper2d_ros ${LTM_GTEST_LIBS})
+  add_executable(test_ros ${LTM_ROS_TEST_SOURCES})
+  target_link_libraries(test_ros ${LTM_TEST_SUPPORT} longterm_mapper2d_ros ${LTM_GTEST_LIBS})
   target_include_directories(test_ros PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/test")
   target_compile_definitions(test_ros PRIVATE
     LTM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"

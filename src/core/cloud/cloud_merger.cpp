@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "longterm_mapper2d/core/geometry/fast_atan2.h"
+
 namespace longterm_mapper2d {
 namespace {
 
@@ -121,7 +123,7 @@ int CloudMerger::RadialMerge(Cloud& map, const ProjectorGeometry& geometry,
   int thinned = 0;
   for (int i = 0; i < static_cast<int>(map.size()); ++i) {
     const Eigen::Vector2d q = R * map[i].point_m + t;
-    const int bin = geometry.BinOf(std::atan2(q.y(), q.x()));
+    const int bin = geometry.BinOf(FastAtan2(q.y(), q.x()));
     if (bin < 0) continue;
     const int winner = image_.indices[bin];
     if (winner < 0 || winner == i || remove_[winner]) continue;

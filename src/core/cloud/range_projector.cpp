@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "longterm_mapper2d/core/geometry/fast_atan2.h"
+
 namespace longterm_mapper2d {
 
 ProjectorGeometry ProjectorGeometry::FromScan(const LaserScan& scan, double max_range_m) {
@@ -57,7 +59,7 @@ void ProjectCloud(const ProjectorGeometry& geometry, const Pose2& viewpoint_T_cl
     const Eigen::Vector2d q = rotation * cloud[i].point_m + translation;
     const double range = q.norm();
     if (range <= geometry.min_range_m || range >= geometry.max_range_m) continue;
-    const int bin = geometry.BinOf(std::atan2(q.y(), q.x()));
+    const int bin = geometry.BinOf(FastAtan2(q.y(), q.x()));
     if (bin < 0 || range >= image->ranges_m[bin]) continue;
     image->ranges_m[bin] = static_cast<float>(range);
     // Facing the viewpoint: the normal points back along the ray (zero normals count as facing).

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "longterm_mapper2d/core/geometry/fast_atan2.h"
+
 namespace longterm_mapper2d {
 namespace {
 
@@ -64,7 +66,7 @@ int MotionFilter::FindMoving(const ScanInput& input, const Cloud& base_points,
   for (std::size_t i = 0; i < base_points.size(); ++i) {
     const Eigen::Vector2d q = earlier_T_base * base_points[i].point_m;
     const double range_m = q.norm();
-    const double bearing_rad = std::atan2(q.y(), q.x());
+    const double bearing_rad = FastAtan2(q.y(), q.x());
     if (FreeRange(earlier, reference->geometry, bearing_rad, window_rad) >
         range_m + margin(range_m)) {
       (*moving)[i] = kMovedIn;
@@ -81,7 +83,7 @@ int MotionFilter::FindMoving(const ScanInput& input, const Cloud& base_points,
         laser_T_earlier *
         Eigen::Vector2d(hidden_by_m * std::cos(angle), hidden_by_m * std::sin(angle));
     const double occluder_range_m = occluder.norm();
-    if (FreeRange(input.scan, geometry, std::atan2(occluder.y(), occluder.x()), window_rad) >
+    if (FreeRange(input.scan, geometry, FastAtan2(occluder.y(), occluder.x()), window_rad) >
         occluder_range_m + margin(occluder_range_m)) {
       (*moving)[i] = kRevealed;
     }

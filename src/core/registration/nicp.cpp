@@ -5,6 +5,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "longterm_mapper2d/core/geometry/fast_atan2.h"
+
 namespace longterm_mapper2d {
 namespace {
 
@@ -159,7 +161,7 @@ RegistrationResult Nicp::AlignProjective(const Cloud& reference, const Cloud& cu
       const RichPoint& c = current[i];
       if (!c.has_normal()) continue;
       const Eigen::Vector2d in_view = Rv * c.point_m + tv;
-      const int bin = geometry.BinOf(std::atan2(in_view.y(), in_view.x()));
+      const int bin = geometry.BinOf(FastAtan2(in_view.y(), in_view.x()));
       if (bin < 0) continue;
       const Eigen::Vector2d q = R * c.point_m + t;
       const Eigen::Vector2d m = R * c.normal;
