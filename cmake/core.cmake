@@ -77,6 +77,10 @@ foreach(dir ${LTM_CORE_TEST_DIRS})
   endif()
 endforeach()
 
+# The offline mapper's application pieces (ROS-free).
+ltm_add_gtest_dir("${CMAKE_CURRENT_SOURCE_DIR}/test/tools/offline" test_tools_offline
+                  longterm_mapper2d_offline)
+
 # A short libFuzzer run over the file parsers (scripts/fuzz.sh builds the targets in
 # test/fuzz/ with clang, ASan and UBSan; longer runs by hand: scripts/fuzz.sh --seconds 600).
 find_program(LTM_CLANGXX clang++)

@@ -29,21 +29,6 @@ ProjectorGeometry ProjectorGeometry::FullCircle(int num_bins, double max_range_m
   return g;
 }
 
-int ProjectorGeometry::BinOf(double bearing_rad) const {
-  double relative = bearing_rad - angle_min_rad;
-  if (wraps) {
-    relative = std::fmod(relative, 2.0 * M_PI);
-    if (relative < 0.0) relative += 2.0 * M_PI;
-    const int bin = static_cast<int>(std::lround(relative / angle_increment_rad));
-    return bin >= num_bins ? bin - num_bins : bin;
-  }
-  // Bearings are continuous across +-pi: measure from the middle of the field of view.
-  const double half_fov = 0.5 * angle_increment_rad * (num_bins - 1);
-  relative = NormalizeAngle(relative - half_fov) + half_fov;
-  const long bin = std::lround(relative / angle_increment_rad);
-  return bin >= 0 && bin < num_bins ? static_cast<int>(bin) : -1;
-}
-
 void RangeImage::Reset(int num_bins) {
   ranges_m.assign(num_bins, std::numeric_limits<float>::infinity());
   indices.assign(num_bins, -1);

@@ -5,8 +5,7 @@
 
 namespace longterm_mapper2d {
 
-double NormalizeAngle(double angle_rad) {
-  if (angle_rad > -M_PI && angle_rad <= M_PI) return angle_rad;
+double NormalizeAngleSlow(double angle_rad) {
   double wrapped = std::remainder(angle_rad, 2.0 * M_PI);  // in [-pi, pi]
   if (wrapped <= -M_PI) wrapped += 2.0 * M_PI;
   return wrapped;

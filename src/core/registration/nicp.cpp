@@ -3,9 +3,9 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "longterm_mapper2d/core/geometry/fast_atan2.h"
+#include "longterm_mapper2d/core/registration/nearest_neighbour_grid.h"
 
 namespace longterm_mapper2d {
 namespace {
@@ -29,8 +29,9 @@ struct Accumulator {
            const RegistrationOptions& o) {
     const Eigen::Vector2d& n = ref.normal;
     const Eigen::Matrix2d nn = n * n.transpose();
-    const Eigen::Matrix2d omega_p = o.normal_direction_information * nn +
-                                    o.tangent_direction_information * (Eigen::Matrix2d::Identity() - nn);
+    const Eigen::Matrix2d omega_p =
+        o.normal_direction_information * nn +
+        o.tangent_direction_information * (Eigen::Matrix2d::Identity() - nn);
     const double w_n = o.normal_error_information;
     const Eigen::Vector2d e_p = q - ref.point_m;
     const Eigen::Vector2d e_n = m - n;
@@ -63,41 +64,6 @@ struct Accumulator {
     b.noalias() += j.transpose() * prior.information * e;
     chi2 += e.dot(prior.information * e);
   }
-};
-
-// Cells of a hash grid over a cloud, for nearest-neighbour search within one cell size.
-class PointGrid {
- public:
-  PointGrid(const Cloud& cloud, double cell_m) : cell_m_(cell_m) {
-    for (int i = 0; i < static_cast<int>(cloud.size()); ++i) {
-      if (cloud[i].has_normal()) cells_[Key(cloud[i].point_m)].push_back(i);
-    }
-  }
-  template <class Visit>
-  void ForNeighbours(const Eigen::Vector2d& p, Visit&& visit) const {
-    const long cx = static_cast<long>(std::floor(p.x() / cell_m_));
-    const long cy = static_cast<long>(std::floor(p.y() / cell_m_));
-    for (long dx = -1; dx <= 1; ++dx) {
-      for (long dy = -1; dy <= 1; ++dy) {
-        const auto it = cells_.find(Pack(cx + dx, cy + dy));
-        if (it == cells_.end()) continue;
-        for (int index : it->second) visit(index);
-      }
-    }
-  }
-
- private:
-  // Two 32-bit cell coordinates in one key (shifted as unsigned: negative cells are common).
-  static std::uint64_t Pack(long x, long y) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(x)) << 32) |
-           static_cast<std::uint32_t>(y);
-  }
-  std::uint64_t Key(const Eigen::Vector2d& p) const {
-    return Pack(static_cast<long>(std::floor(p.x() / cell_m_)),
-                static_cast<long>(std::floor(p.y() / cell_m_)));
-  }
-  double cell_m_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 
 }  // namespace
@@ -193,7 +159,7 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
                                                const ProjectorGeometry& geometry,
                                                const Pose2& validation_viewpoint,
                                                const std::optional<PosePrior>& prior) {
-  const PointGrid grid(reference, options_.max_correspondence_distance_m);
+  const NearestNeighbourGrid grid(reference, options_.max_correspondence_distance_m);
   auto find_pairs = [&](const Pose2& T, double cos_max_angle, double max_distance_sq) {
     pairs_.clear();
     const Eigen::Matrix2d R = T.rotation();
@@ -201,24 +167,14 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
     for (int i = 0; i < static_cast<int>(current.size()); ++i) {
       const RichPoint& c = current[i];
       if (!c.has_normal()) continue;
-      const Eigen::Vector2d q = R * c.point_m + t;
-      const Eigen::Vector2d m = R * c.normal;
-      int best = -1;
-      double best_distance_sq = max_distance_sq;
-      grid.ForNeighbours(q, [&](int j) {
-        const RichPoint& r = reference[j];
-        const double d2 = (q - r.point_m).squaredNorm();
-        if (d2 < best_distance_sq && m.dot(r.normal) > cos_max_angle) {
-          best = j;
-          best_distance_sq = d2;
-        }
-      });
+      const int best =
+          grid.Nearest(R * c.point_m + t, R * c.normal, cos_max_angle, max_distance_sq);
       if (best >= 0) pairs_.push_back({best, i});
     }
   };
   RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
-  result.validation = Validate(reference, current, result.reference_T_current,
-                               validation_viewpoint, geometry);
+  result.validation =
+      Validate(reference, current, result.reference_T_current, validation_viewpoint, geometry);
   return result;
 }
 

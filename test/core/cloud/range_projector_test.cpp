@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 
 namespace longterm_mapper2d {
@@ -22,6 +25,16 @@ TEST(RangeProjector, FullCircleWrapsAroundPi) {
   EXPECT_EQ(g.BinOf(M_PI - 0.001), 0);
   EXPECT_EQ(g.Shift(0, -1), 359);
   EXPECT_EQ(g.Shift(359, 2), 1);
+}
+
+TEST(RangeProjector, RoundingMatchesTheLibrary) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> value(-2000.0, 2000.0);
+  std::vector<double> xs = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994,
+                            -0.49999999999999994, 719.5, 1e16, -1e16, 4503599627370497.0};
+  for (int i = 0; i < 100000; ++i) xs.push_back(value(rng));
+  for (int i = 0; i < 1000; ++i) xs.push_back(std::round(value(rng)) + 0.5);
+  for (double x : xs) ASSERT_EQ(ProjectorGeometry::RoundHalfAway(x), std::lround(x)) << x;
 }
 
 TEST(RangeProjector, BinsFollowTheScanGeometry) {

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "longterm_mapper2d/core/cloud/rich_point.h"
@@ -22,8 +23,34 @@ struct ProjectorGeometry {
   static ProjectorGeometry FromScan(const LaserScan& scan, double max_range_m);
   static ProjectorGeometry FullCircle(int num_bins, double max_range_m);
 
-  // The bin of a bearing, or -1 outside the field of view.
-  int BinOf(double bearing_rad) const;
+  // The bin of a bearing, or -1 outside the field of view. Inline, with the common cases first:
+  // it runs for every point of every projection and association.
+  int BinOf(double bearing_rad) const {
+    double relative = bearing_rad - angle_min_rad;
+    if (wraps) {
+      if (!(relative >= 0.0 && relative < 2.0 * M_PI)) {
+        relative = std::fmod(relative, 2.0 * M_PI);
+        if (relative < 0.0) relative += 2.0 * M_PI;
+      }
+      const int bin = static_cast<int>(RoundHalfAway(relative / angle_increment_rad));
+      return bin >= num_bins ? bin - num_bins : bin;
+    }
+    // Bearings are continuous across +-pi: measure from the middle of the field of view.
+    const double half_fov = 0.5 * angle_increment_rad * (num_bins - 1);
+    relative = NormalizeAngle(relative - half_fov) + half_fov;
+    const long bin = RoundHalfAway(relative / angle_increment_rad);
+    return bin >= 0 && bin < num_bins ? static_cast<int>(bin) : -1;
+  }
+  // std::lround without the library call: halves away from zero. Exact: x - trunc(x) is
+  // representable, so the comparison with one half sees the true fraction.
+  static long RoundHalfAway(double x) {
+    if (!(std::abs(x) < 1e15)) return std::lround(x);
+    const long whole = static_cast<long>(x);
+    const double fraction = x - static_cast<double>(whole);
+    if (fraction >= 0.5) return whole + 1;
+    if (fraction <= -0.5) return whole - 1;
+    return whole;
+  }
   double BinAngle(int bin) const { return angle_min_rad + angle_increment_rad * bin; }
   // Bin index shifted by `offset`, wrapped for a full circle; -1 if it leaves the field of view.
   int Shift(int bin, int offset) const {

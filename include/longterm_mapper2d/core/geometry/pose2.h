@@ -6,8 +6,12 @@
 
 namespace longterm_mapper2d {
 
-// Wraps an angle to (-pi, pi].
-double NormalizeAngle(double angle_rad);
+// Wraps an angle to (-pi, pi]. Inline for the common case of an angle already in range (every
+// pose composition and every bin lookup calls it).
+double NormalizeAngleSlow(double angle_rad);
+inline double NormalizeAngle(double angle_rad) {
+  return angle_rad > -M_PI && angle_rad <= M_PI ? angle_rad : NormalizeAngleSlow(angle_rad);
+}
 
 // A rigid motion in the plane, SE(2). A pose named a_T_b maps coordinates in frame b to frame a:
 // p_a = a_T_b * p_b. Composition follows the frames: a_T_c = a_T_b * b_T_c.
