@@ -9,6 +9,7 @@
 #include <queue>
 #include <set>
 
+#include "longterm_mapper2d/core/common/parallel_for.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 
 namespace longterm_mapper2d {
@@ -107,29 +108,38 @@ std::vector<GraphNodeId> LoopCloser::Candidates(const PoseGraph& graph, GraphNod
   return gated;
 }
 
-std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cloud& current,
-                                                const std::vector<Pose2>& guesses) {
+LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& current,
+                                          const Pose2& guess) const {
   const ProjectorGeometry geometry = ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
   Nicp coarse(coarse_), fine(fine_);
+  Attempt attempt;
+  const RegistrationResult first =
+      coarse.AlignNearestNeighbour(reference, current, guess, geometry, Pose2(), std::nullopt);
+  if (!first.solved) return attempt;
+  const RegistrationResult second = fine.AlignNearestNeighbour(
+      reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
+  if (!second.solved || !second.validation.accepted || !second.reference_T_current.IsFinite()) {
+    return attempt;
+  }
+  // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
+      second.information.topLeftCorner<2, 2>());
+  const Eigen::Vector2d lambda = eigen.eigenvalues();
+  if (!(lambda.x() > options_.min_information_ratio * lambda.y())) {
+    attempt.degenerate = true;
+    return attempt;
+  }
+  attempt.pose = second.reference_T_current;
+  return attempt;
+}
+
+std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cloud& current,
+                                                const std::vector<Pose2>& guesses) {
   degenerate_ = false;
   for (const Pose2& guess : guesses) {
-    const RegistrationResult first =
-        coarse.AlignNearestNeighbour(reference, current, guess, geometry, Pose2(), std::nullopt);
-    if (!first.solved) continue;
-    const RegistrationResult second = fine.AlignNearestNeighbour(
-        reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
-    if (!second.solved || !second.validation.accepted || !second.reference_T_current.IsFinite()) {
-      continue;
-    }
-    // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it.
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
-        second.information.topLeftCorner<2, 2>());
-    const Eigen::Vector2d lambda = eigen.eigenvalues();
-    if (!(lambda.x() > options_.min_information_ratio * lambda.y())) {
-      degenerate_ = true;
-      continue;
-    }
-    return second.reference_T_current;
+    const Attempt attempt = AlignFrom(reference, current, guess);
+    degenerate_ |= attempt.degenerate;
+    if (attempt.pose) return attempt.pose;
   }
   return std::nullopt;
 }
@@ -150,33 +160,12 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     }
   }
   const Pose2& pose = graph.node(node).pose;
+  std::vector<GraphNodeId> olds;  // the local maps to align the new one with, in order
   std::set<GraphNodeId> tried;
   auto align = [&](GraphNodeId old) {
     if (!tried.insert(old).second) return;
     if (accepted_pairs_.count({std::min(node, old), std::max(node, old)})) return;
-    ++stats.counters["loop_closure_alignments"];
-    const Pose2 guess = pose.Between(graph.node(old).pose);
-    auto aligned =
-        AlignLocalMaps(cloud_of(node), cloud_of(old), {guess, Pose2(0.0, 0.0, guess.theta())});
-    if (!aligned && heading_in_doubt && options_.recovery_heading_steps > 0) {
-      // Turning in place, a wrong registration can leave the heading tens of degrees off, far
-      // beyond what the alignment corrects from the graph's guess: try the new node turned
-      // about itself. The vote still has to find the result consistent with others.
-      std::vector<Pose2> turned;
-      for (int k = 1; k <= options_.recovery_heading_steps; ++k) {
-        for (double sign : {1.0, -1.0}) {
-          turned.push_back(Pose2(0.0, 0.0, sign * k * options_.recovery_heading_step_rad) * guess);
-        }
-      }
-      ++stats.counters["loop_closure_alignments_turned"];
-      aligned = AlignLocalMaps(cloud_of(node), cloud_of(old), turned);
-    }
-    if (!aligned) {
-      if (degenerate_) ++stats.counters["loop_closure_alignments_degenerate"];
-      return;
-    }
-    ++stats.counters["loop_closure_candidates"];
-    AddCandidate({node, old, *aligned});
+    olds.push_back(old);
   };
   while (!remaining.empty()) {
     std::deque<GraphNodeId> queue{*remaining.begin()};
@@ -203,6 +192,82 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     if ((other.pose.translation() - pose.translation()).norm() < options_.duplicate_radius_m) {
       align(id);
     }
+  }
+  if (olds.empty()) return;
+
+  // Each old map is tried from the graph's guess, then from its heading alone; the first guess
+  // that validates wins, as when one thread tries them in turn. The old maps still unsettled run
+  // side by side on the alignment threads, one guess each per round (no guess is tried that the
+  // sequential order would have skipped).
+  struct Outcome {
+    std::optional<Pose2> pose;
+    bool degenerate = false;  // some guess tried was refused as degenerate
+  };
+  std::vector<Outcome> outcomes(olds.size());
+  auto try_in_rounds = [&](const std::vector<std::vector<Pose2>>& guesses) {
+    std::vector<std::size_t> open(olds.size());
+    for (std::size_t k = 0; k < olds.size(); ++k) open[k] = k;
+    for (std::size_t round = 0; !open.empty(); ++round) {
+      std::vector<std::size_t> trying;
+      for (std::size_t k : open) {
+        if (round < guesses[k].size()) trying.push_back(k);
+      }
+      if (trying.empty()) break;
+      std::vector<Attempt> attempts(trying.size());
+      ParallelFor(trying.size(), options_.alignment_threads, [&](std::size_t i) {
+        const std::size_t k = trying[i];
+        attempts[i] = AlignFrom(cloud_of(node), cloud_of(olds[k]), guesses[k][round]);
+      });
+      open.clear();
+      for (std::size_t i = 0; i < trying.size(); ++i) {
+        Outcome& outcome = outcomes[trying[i]];
+        outcome.degenerate |= attempts[i].degenerate;
+        if (attempts[i].pose) {
+          outcome.pose = attempts[i].pose;
+        } else {
+          open.push_back(trying[i]);
+        }
+      }
+    }
+  };
+  std::vector<std::vector<Pose2>> guesses(olds.size());
+  for (std::size_t k = 0; k < olds.size(); ++k) {
+    const Pose2 guess = pose.Between(graph.node(olds[k]).pose);
+    guesses[k] = {guess, Pose2(0.0, 0.0, guess.theta())};
+  }
+  try_in_rounds(guesses);
+
+  // Turning in place, a wrong registration can leave the heading tens of degrees off, far
+  // beyond what the alignment corrects from the graph's guess: after a tracker failure, the maps
+  // that did not align are tried with the new node turned about itself. The vote still has to
+  // find the result consistent with others.
+  std::vector<bool> turned(olds.size(), false);
+  if (heading_in_doubt && options_.recovery_heading_steps > 0) {
+    for (std::size_t k = 0; k < olds.size(); ++k) {
+      const Pose2 guess = pose.Between(graph.node(olds[k]).pose);
+      guesses[k].clear();
+      if (outcomes[k].pose) continue;
+      turned[k] = true;
+      outcomes[k].degenerate = false;  // the retry's refusals are the ones reported
+      for (int step = 1; step <= options_.recovery_heading_steps; ++step) {
+        for (double sign : {1.0, -1.0}) {
+          guesses[k].push_back(Pose2(0.0, 0.0, sign * step * options_.recovery_heading_step_rad) *
+                               guess);
+        }
+      }
+    }
+    try_in_rounds(guesses);
+  }
+
+  for (std::size_t k = 0; k < olds.size(); ++k) {
+    ++stats.counters["loop_closure_alignments"];
+    if (turned[k]) ++stats.counters["loop_closure_alignments_turned"];
+    if (!outcomes[k].pose) {
+      if (outcomes[k].degenerate) ++stats.counters["loop_closure_alignments_degenerate"];
+      continue;
+    }
+    ++stats.counters["loop_closure_candidates"];
+    AddCandidate({node, olds[k], *outcomes[k].pose});
   }
 }
 

@@ -49,6 +49,13 @@ class LoopCloser {
   const std::vector<ClosureCandidate>& buffer() const { return buffer_; }
 
  private:
+  // One alignment from one guess: the validated pose, or nothing (`degenerate`: refused because
+  // the geometry pins only one direction). Const and self-contained: runs on several threads.
+  struct Attempt {
+    std::optional<Pose2> pose;
+    bool degenerate = false;
+  };
+  Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
   std::vector<GraphNodeId> Candidates(const PoseGraph& graph, GraphNodeId node,
                                       MapperStats& stats) const;
   Eigen::Matrix3d ClosureInformation() const;

@@ -35,6 +35,9 @@ struct LoopClosingOptions {
   // k = 1..steps (0: never). Only then: for every node it would double the alignment time.
   int recovery_heading_steps = 2;
   double recovery_heading_step_rad = 0.35;
+  // Threads for the closure alignments of a new node (the caller's included; 1: all on the
+  // caller). The result does not depend on it.
+  int alignment_threads = 2;
   // Information of a closure edge (x, y and theta).
   double closure_information_xy = 1000.0;
   double closure_information_theta = 300.0;
@@ -73,6 +76,7 @@ struct LoopClosingOptions {
     v("min_information_ratio", min_information_ratio);
     v("recovery_heading_steps", recovery_heading_steps);
     v("recovery_heading_step_rad", recovery_heading_step_rad);
+    v("alignment_threads", alignment_threads);
     v("closure_information_xy", closure_information_xy);
     v("closure_information_theta", closure_information_theta);
     v("vote_inlier_chi2", vote_inlier_chi2);
@@ -102,6 +106,8 @@ struct LoopClosingOptions {
     e.Require(recovery_heading_steps >= 0, "recovery_heading_steps", "must be non-negative");
     e.Require(recovery_heading_step_rad > 0.0 && recovery_heading_step_rad <= 1.6,
               "recovery_heading_step_rad", "must be in (0, 1.6]");
+    e.Require(alignment_threads >= 1 && alignment_threads <= 64, "alignment_threads",
+              "must be in [1, 64]");
     e.Require(closure_information_xy > 0.0 && closure_information_theta > 0.0,
               "closure_information_xy", "closure information must be positive");
     e.Require(vote_inlier_chi2 > 0.0, "vote_inlier_chi2", "must be positive");
