@@ -1,5 +1,6 @@
 #include "longterm_mapper2d/tools/offline_mapper_app.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 
@@ -202,6 +203,12 @@ JsonObject StatsJson(const Mapper& mapper, double wall_s, double data_duration_s
 }  // namespace
 
 int RunOfflineMapper(int argc, char** argv, const RecordingOpener& open_bags) {
+#ifdef __GLIBC__
+  // One malloc arena for the process: the bag-reading thread's allocations otherwise stay in an
+  // arena of their own once freed (peak RSS 245 instead of 160 MB on an hour of the simulated
+  // care home, at the same speed).
+  mallopt(M_ARENA_MAX, 1);
+#endif
   Arguments args;
   bool help = false;
   if (const std::string error = Parse(argc, argv, args, help); !error.empty()) {
