@@ -230,10 +230,11 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       }
     }
   };
+  std::vector<Pose2> graph_guesses(olds.size());  // new_T_old as the graph has it
   std::vector<std::vector<Pose2>> guesses(olds.size());
   for (std::size_t k = 0; k < olds.size(); ++k) {
-    const Pose2 guess = pose.Between(graph.node(olds[k]).pose);
-    guesses[k] = {guess, Pose2(0.0, 0.0, guess.theta())};
+    graph_guesses[k] = pose.Between(graph.node(olds[k]).pose);
+    guesses[k] = {graph_guesses[k], Pose2(0.0, 0.0, graph_guesses[k].theta())};
   }
   try_in_rounds(guesses);
 
@@ -244,7 +245,6 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
   std::vector<bool> turned(olds.size(), false);
   if (heading_in_doubt && options_.recovery_heading_steps > 0) {
     for (std::size_t k = 0; k < olds.size(); ++k) {
-      const Pose2 guess = pose.Between(graph.node(olds[k]).pose);
       guesses[k].clear();
       if (outcomes[k].pose) continue;
       turned[k] = true;
@@ -252,7 +252,7 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       for (int step = 1; step <= options_.recovery_heading_steps; ++step) {
         for (double sign : {1.0, -1.0}) {
           guesses[k].push_back(Pose2(0.0, 0.0, sign * step * options_.recovery_heading_step_rad) *
-                               guess);
+                               graph_guesses[k]);
         }
       }
     }

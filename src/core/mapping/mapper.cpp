@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "longterm_mapper2d/core/graph/frame_anchor.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 
 namespace longterm_mapper2d {
@@ -251,6 +252,11 @@ void Mapper::OptimizeGraph(int max_iterations) {
     ++stats_.counters["optimizations_unusable"];
     return;
   }
+  if (options_.maintenance.hold_loaded_frame) {
+    if (const auto correction = FrameCorrection(graph_, frame_anchors_)) {
+      MoveFrame(graph_, *correction);
+    }
+  }
   for (auto& [id, node] : nodes_) node.map_T_node = graph_.node(id).pose;
 }
 
@@ -344,6 +350,8 @@ Status Mapper::LoadSession(const SessionMap& map, const std::optional<Pose2>& in
   graph_ = std::move(graph);
   nodes_ = map.nodes;
   removed_nodes_ = map.removed_nodes;
+  frame_anchors_.clear();
+  for (const auto& [id, node] : nodes_) frame_anchors_[id] = node.map_T_node;
   session_id_ = map.sessions;
   next_node_id_ = map.nodes.rbegin()->first + 1;
   origin_ = map.origin;

@@ -136,9 +136,21 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   for (NodeId id : removed) {
     removed_nodes_[id] = {survivor, map_T_survivor.Between(nodes_.at(id).map_T_node)};
   }
+  // The survivor inherits the frame anchor of the oldest removed node that had one (unless it has
+  // its own), moved by the pair's relative pose as the graph has it: anchored where that node
+  // was anchored, not where it has drifted to.
+  if (!frame_anchors_.count(survivor)) {
+    for (NodeId id : removed) {
+      const auto anchor = frame_anchors_.find(id);
+      if (anchor == frame_anchors_.end()) continue;
+      frame_anchors_[survivor] = anchor->second * nodes_.at(id).map_T_node.Between(map_T_survivor);
+      break;
+    }
+  }
   for (NodeId id : removed) {
     nodes_.erase(id);
     tracker_T_node_.erase(id);
+    frame_anchors_.erase(id);
   }
   edges_.erase(std::remove_if(edges_.begin(), edges_.end(),
                               [&](const OdometryEdge& e) {

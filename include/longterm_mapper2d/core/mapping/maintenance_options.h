@@ -38,6 +38,11 @@ struct MaintenanceOptions {
   // weakest direction of the strongest other edge at both their nodes are removed, if their
   // nodes stay connected (0: never). See graph/edge_pruning.h.
   double prune_edge_ratio = 1e-6;
+  // In a session that loaded a map, after each optimisation the solution is moved rigidly so that
+  // the loaded nodes (their anchors carried on by merges) sit, robustly, where the map had them:
+  // the map frame no longer hangs on the one gauge node, which merges hand from node to node
+  // (see graph/frame_anchor.h).
+  bool hold_loaded_frame = true;
   // Optimisation before and after each merge (iterations).
   int optimizer_iterations = 5;
 
@@ -54,6 +59,7 @@ struct MaintenanceOptions {
     v("align_min_correspondences", align_min_correspondences);
     v("max_closure_chi2", max_closure_chi2);
     v("prune_edge_ratio", prune_edge_ratio);
+    v("hold_loaded_frame", hold_loaded_frame);
     v("optimizer_iterations", optimizer_iterations);
   }
   void Validate(OptionErrors& e) const {

@@ -146,6 +146,11 @@ class Mapper {
   std::map<NodeId, LocalMapNode> nodes_;
   std::map<NodeId, RemovedNode> removed_nodes_;
   std::map<NodeId, Pose2> tracker_T_node_;
+  // Where the loaded map had each node of earlier sessions (map_T_node): with
+  // maintenance.hold_loaded_frame, each optimisation's solution is moved rigidly to match them
+  // (FrameCorrection) instead of the map frame hanging on the gauge node; a merge hands a removed
+  // node's anchor on to the survivor (see MergeSet).
+  std::map<NodeId, Pose2> frame_anchors_;
   std::vector<OdometryEdge> edges_;
   PoseGraph graph_;
   LoopCloser loop_closer_;

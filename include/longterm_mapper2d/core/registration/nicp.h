@@ -54,8 +54,9 @@ class Nicp {
                                      const ProjectorGeometry& geometry,
                                      const std::optional<PosePrior>& prior);
 
-  // Nearest-neighbour association through a grid over the reference (NearestNeighbourGrid): for map-to-map
-  // alignment (local maps of loop closures and merges), where there is no single viewpoint.
+  // Nearest-neighbour association through a grid over the reference (NearestNeighbourGrid): for
+  // map-to-map alignment (local maps of loop closures and merges), where there is no single
+  // viewpoint.
   // Validation projects both clouds from `validation_viewpoint` (in the reference frame).
   RegistrationResult AlignNearestNeighbour(const Cloud& reference, const Cloud& current,
                                            const Pose2& guess, const ProjectorGeometry& geometry,
