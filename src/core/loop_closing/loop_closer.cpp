@@ -73,8 +73,9 @@ Eigen::Matrix3d LoopCloser::ClosureInformation() const {
       .asDiagonal();
 }
 
-std::vector<GraphNodeId> LoopCloser::Candidates(const PoseGraph& graph, GraphNodeId node,
-                                                MapperStats& stats) const {
+std::vector<GraphNodeId> LoopCloser::Candidates(
+    const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
+    std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const {
   const Pose2& pose = graph.node(node).pose;
   const auto near_in_graph = GraphDistances(graph, node, options_.min_graph_distance_m);
   std::vector<GraphNodeId> nearby;
@@ -103,7 +104,10 @@ std::vector<GraphNodeId> LoopCloser::Candidates(const PoseGraph& graph, GraphNod
     const Eigen::Matrix2d R = candidate.rotation();
     const Eigen::Matrix2d P = R.transpose() * marginals->at(id).topLeftCorner<2, 2>() * R +
                               1e-6 * Eigen::Matrix2d::Identity();
-    if (cropped.dot(P.inverse() * cropped) <= options_.mahalanobis_gate) gated.push_back(id);
+    if (cropped.dot(P.inverse() * cropped) <= options_.mahalanobis_gate) {
+      gated.push_back(id);
+      if (offset_covariance) (*offset_covariance)[id] = P;
+    }
   }
   return gated;
 }
@@ -147,7 +151,8 @@ std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cl
 void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
                             MapperStats& stats, bool heading_in_doubt) {
   if (!options_.enabled || !graph.HasNode(node)) return;
-  const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats);
+  std::map<GraphNodeId, Eigen::Matrix2d> offset_covariance;
+  const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats, &offset_covariance);
   if (candidates.empty()) return;
   ScopedStageTimer timer(stats.stage_times, "loop_closing_alignment");
   // Connected sets of candidates (joined by graph edges among candidates); in each, the nearest.
@@ -265,6 +270,18 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     if (!outcomes[k].pose) {
       if (outcomes[k].degenerate) ++stats.counters["loop_closure_alignments_degenerate"];
       continue;
+    }
+    if (options_.innovation_gate > 0.0) {
+      // The new node seen from the old one: measured against where the graph has it.
+      const Eigen::Vector2d innovation =
+          outcomes[k].pose->inverse().translation() - graph_guesses[k].inverse().translation();
+      const Eigen::Matrix2d S = offset_covariance.at(olds[k]) +
+                                Eigen::Matrix2d::Identity() / options_.closure_information_xy;
+      const double chi2 = innovation.dot(S.inverse() * innovation);
+      if (chi2 > options_.innovation_gate) {
+        ++stats.counters["loop_closure_alignments_implausible"];
+        continue;
+      }
     }
     ++stats.counters["loop_closure_candidates"];
     AddCandidate({node, olds[k], *outcomes[k].pose});

@@ -87,6 +87,50 @@ TEST(LoopCloser, AfterATrackerFailureATurnedNodeIsStillAligned) {
   EXPECT_TRUE(plain.buffer().empty());
 }
 
+TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {
+  // The clouds of nodes 0 and 1 are of one place (1 is 0.5 m from 0), but the graph, through
+  // node 2 (0.8 m between 0 and 1: loose enough for the candidate gate), has node 1 2.5 m
+  // farther: from its guess the alignment does not validate, from the heading alone it does,
+  // 2.5 m (3 sigma) from where the graph has it. Along a corridor this is how an alignment that
+  // slid to a look-alike stretch gets in.
+  const auto room = test_support::IrregularRoom();
+  const Pose2 old_pose(0.0, 0.0, 0.0), new_in_clouds(0.5, 0.3, 0.1);
+  const Pose2 new_in_graph = Pose2(2.5, 0.0, 0.0) * new_in_clouds;
+  PoseGraph graph;
+  for (const auto& [id, pose] :
+       std::map<GraphNodeId, Pose2>{{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 12.0, 0.0)}}) {
+    GraphNode node;
+    node.id = id;
+    node.pose = pose;
+    ASSERT_TRUE(graph.AddNode(node).ok());
+  }
+  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 2}, {2, 1}}) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
+    edge.information = Eigen::Vector3d(3.0, 3.0, 1e4).asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    ASSERT_TRUE(graph.AddEdge(edge).ok());
+  }
+  const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
+                                               {1, CloudAt(room, new_in_clouds, 8)}};
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  LoopClosingOptions options;
+  options.innovation_gate = 0.0;
+  MapperStats stats;
+  LoopCloser ungated(options, RegistrationOptions{});
+  ungated.SearchFrom(graph, 1, cloud_of, stats, false);
+  ASSERT_EQ(ungated.buffer().size(), 1u);
+  const Pose2 in_clouds = new_in_clouds.Between(old_pose);
+  EXPECT_LT((ungated.buffer().front().local_T_old.translation() - in_clouds.translation()).norm(),
+            0.02);
+  LoopCloser gated(LoopClosingOptions{}, RegistrationOptions{});
+  gated.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_TRUE(gated.buffer().empty());
+  EXPECT_EQ(stats.counters["loop_closure_alignments_implausible"], 1u);
+}
+
 // Old nodes 0..5 along a line; the robot comes back (nodes 10..15) with a rigid drift.
 PoseGraph Revisit() {
   PoseGraph graph;

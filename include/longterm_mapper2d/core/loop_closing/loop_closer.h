@@ -56,8 +56,11 @@ class LoopCloser {
     bool degenerate = false;
   };
   Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
-  std::vector<GraphNodeId> Candidates(const PoseGraph& graph, GraphNodeId node,
-                                      MapperStats& stats) const;
+  // The gated candidates, and for each the covariance of the new node's position seen from it
+  // (in its frame) that the gate used.
+  std::vector<GraphNodeId> Candidates(
+      const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
+      std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
   Eigen::Matrix3d ClosureInformation() const;
 
   LoopClosingOptions options_;

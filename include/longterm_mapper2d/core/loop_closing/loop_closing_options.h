@@ -15,6 +15,12 @@ struct LoopClosingOptions {
   // offset is shrunk by the perception range (the local maps overlap within it).
   double mahalanobis_gate = 5.99;
   double perception_range_m = 1.5;
+  // An alignment is kept only if where it puts the new node, seen from the candidate, is within
+  // this chi2 (2 dof) of where the graph has it, under the gate's marginal plus the closure's own
+  // covariance (0: no such test). Why: along a corridor an alignment can slide to a look-alike
+  // stretch metres away and still validate, and the vote then finds it consistent with the
+  // closures inside the new sub-map, which hold wherever the sub-map is placed.
+  double innovation_gate = 5.99;
   // Of each connected set of candidates only the nearest is aligned, except that every node of an
   // earlier session nearer than this is aligned too: such nodes at one place are duplicates (left
   // by sessions whose closures there failed), and each needs its own closure to be merged away.
@@ -66,6 +72,7 @@ struct LoopClosingOptions {
     v("max_distance_m", max_distance_m);
     v("mahalanobis_gate", mahalanobis_gate);
     v("perception_range_m", perception_range_m);
+    v("innovation_gate", innovation_gate);
     v("duplicate_radius_m", duplicate_radius_m);
     v("coarse_correspondence_m", coarse_correspondence_m);
     v("fine_correspondence_m", fine_correspondence_m);
@@ -93,6 +100,7 @@ struct LoopClosingOptions {
     e.Require(max_distance_m > 0.0, "max_distance_m", "must be positive");
     e.Require(mahalanobis_gate > 0.0, "mahalanobis_gate", "must be positive");
     e.Require(perception_range_m >= 0.0, "perception_range_m", "must be non-negative");
+    e.Require(innovation_gate >= 0.0, "innovation_gate", "must be non-negative (0: off)");
     e.Require(duplicate_radius_m >= 0.0, "duplicate_radius_m", "must be non-negative");
     e.Require(coarse_correspondence_m >= fine_correspondence_m && fine_correspondence_m > 0.0,
               "fine_correspondence_m", "must be positive and at most coarse_correspondence_m");
