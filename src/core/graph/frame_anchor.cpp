@@ -44,11 +44,8 @@ std::optional<Pose2> FrameCorrection(const PoseGraph& graph,
 }
 
 void MoveFrame(PoseGraph& graph, const Pose2& correction) {
-  std::vector<GraphNodeId> ids;
-  for (const auto& [id, node] : graph.nodes()) ids.push_back(id);
-  for (GraphNodeId id : ids) {
-    GraphNode& node = graph.mutable_node(id);
-    node.pose = correction * node.pose;
+  for (const auto& [id, node] : graph.nodes()) {
+    graph.mutable_node(id).pose = correction * node.pose;
   }
 }
 
