@@ -113,6 +113,29 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
   return stats;
 }
 
+int CloudMerger::EraseSeenThrough(Cloud& map, const LaserScan& scan, const Pose2& frame_T_laser,
+                                  int max_observations) {
+  ProjectorGeometry geometry = ProjectorGeometry::FromScan(scan, 1e9);
+  geometry.min_range_m = 0.0;
+  ProjectCloud(geometry, frame_T_laser.inverse(), map, &image_);
+  remove_.assign(map.size(), 0);
+  int erased = 0;
+  for (int beam = 0; beam < geometry.num_bins; ++beam) {
+    const int old_index = image_.nearest[beam];
+    if (old_index < 0 || map[old_index].observations > max_observations) continue;
+    const float r = scan.ranges[beam];
+    if (std::isnan(r) || (std::isfinite(r) && r < scan.range_min_m)) continue;
+    const double free_until =
+        !std::isfinite(r) || r >= scan.range_max_m ? options_.free_space_max_range_m : r;
+    if (image_.ranges_m[beam] + options_.merge_distance_m < free_until) {
+      remove_[old_index] = 1;
+      ++erased;
+    }
+  }
+  Compact(map, remove_);
+  return erased;
+}
+
 int CloudMerger::RadialMerge(Cloud& map, const ProjectorGeometry& geometry,
                              const Pose2& laser_T_frame) {
   ProjectCloud(geometry, laser_T_frame, map, &image_);

@@ -15,7 +15,8 @@ Mapper::Mapper(const MapperOptions& options)
       tracker_(options),
       loop_closer_(options.loop_closing, options.registration),
       local_map_merger_(options.maintenance, options.merger, options.registration,
-                        options.cloud.max_range_m) {}
+                        options.cloud.max_range_m),
+      node_cleaner_(options.merger) {}
 
 Pose2 Mapper::MapTTracker() const {
   if (mode_ == MapperMode::kLocalization) return localization_map_T_tracker_;
@@ -138,6 +139,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   node.stamp_s = stamp_s;
   node.map_T_node = MapTTracker() * tracker_T_base;
   if (!origin_) origin_ = node.map_T_node;
+  CleanFinishedNode();
   const Pose2 node_T_tracker = tracker_T_base.inverse();
   node.cloud = Transform(node_T_tracker, tracker_.local_map());
   for (PendingWaypoint& w : pending_waypoints_) {

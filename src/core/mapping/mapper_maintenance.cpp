@@ -2,6 +2,7 @@
 // joined, removing the older node, condensing its edges.
 #include <algorithm>
 #include <map>
+#include <limits>
 #include <set>
 
 #include "longterm_mapper2d/core/graph/condensation.h"
@@ -167,6 +168,36 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   stats_.counters["condensed_edges_composed"] += report.value().composed_edges;
   stats_.counters["nodes"] = nodes_.size();
   OptimizeGraph(options_.maintenance.optimizer_iterations);
+}
+
+void Mapper::CleanFinishedNode() {
+  // The pending waypoints are the stretch since the last node, placed in the tracker frame of the
+  // nodes before it as long as the tracker did not fail on the way (after a failure odometry
+  // placed the scans: no free-space claims from them).
+  const int max_nodes = options_.tracker.clean_finished_nodes;
+  if (max_nodes <= 0 || !options_.merger.free_space_reasoning || !last_node_ ||
+      stretch_after_failure_ || pending_waypoints_.empty()) {
+    return;
+  }
+  std::vector<NodeId> finished = {*last_node_};
+  for (auto e = edges_.rbegin(); e != edges_.rend() && static_cast<int>(finished.size()) < max_nodes;
+       ++e) {
+    if (e->to != finished.back() || e->after_tracker_failure) break;
+    finished.push_back(e->from);
+  }
+  int erased = 0;
+  for (const NodeId id : finished) {
+    const auto node = nodes_.find(id);
+    const auto tracker_T_node = tracker_T_node_.find(id);
+    if (node == nodes_.end() || tracker_T_node == tracker_T_node_.end()) continue;
+    const Pose2 node_T_tracker = tracker_T_node->second.inverse();
+    for (const PendingWaypoint& w : pending_waypoints_) {
+      erased += node_cleaner_.EraseSeenThrough(
+          node->second.cloud, w.scan, node_T_tracker * w.tracker_T_base * w.base_T_laser,
+          std::numeric_limits<int>::max());
+    }
+  }
+  stats_.counters["finished_node_points_erased"] += erased;
 }
 
 }  // namespace longterm_mapper2d

@@ -85,6 +85,13 @@ class CloudMerger {
   explicit CloudMerger(const MergerOptions& options) : options_(options) {}
   MergeStats Merge(Cloud& map, const Cloud& scan_points, const std::vector<int>& scan_beams,
                    const LaserScan& scan, const Pose2& frame_T_laser, double max_point_range_m);
+  // Free space alone, for a cloud that no longer takes new points (a finished node's snapshot):
+  // erases the points with at most max_observations observations that a beam of `scan` passed
+  // through, i.e. the bin's nearest point lies more than merge_distance_m in front of where the
+  // beam ended (its return, or free_space_max_range_m for a no-return beam). Invalid readings
+  // observe nothing. Returns the number erased.
+  int EraseSeenThrough(Cloud& map, const LaserScan& scan, const Pose2& frame_T_laser,
+                       int max_observations);
   // Removes map points farther than range_m from `centre`.
   static void Clip(Cloud& map, const Eigen::Vector2d& centre, double range_m);
 

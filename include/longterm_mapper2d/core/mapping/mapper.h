@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "longterm_mapper2d/core/cloud/cloud_merger.h"
 #include "longterm_mapper2d/core/config/mapper_options.h"
 #include "longterm_mapper2d/core/geometry/pose2.h"
 #include "longterm_mapper2d/core/graph/pose_graph.h"
@@ -100,6 +101,7 @@ class Mapper {
   void Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base);
   void MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_base);
   void CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure);
+  void CleanFinishedNode();
   // Loop closing for a new node, then optimisation if closures were accepted.
   void CloseLoops(NodeId node, bool force);
   void OptimizeGraph(int max_iterations);
@@ -155,6 +157,7 @@ class Mapper {
   PoseGraph graph_;
   LoopCloser loop_closer_;
   LocalMapMerger local_map_merger_;
+  CloudMerger node_cleaner_;
   std::vector<std::pair<NodeId, NodeId>> merge_queue_;
   // Pairs whose merge set lost an inconsistent closure, merged on the next pass.
   std::vector<std::pair<NodeId, NodeId>> requeued_merges_;

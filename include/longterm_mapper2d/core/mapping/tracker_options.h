@@ -36,6 +36,11 @@ struct TrackerOptions {
   // Registration covariances (inverse Hessians) are optimistic; they are scaled by this before
   // they accumulate into odometry edges.
   double registration_covariance_scale = 100.0;
+  // A node's cloud is a snapshot of the local map, with the people in it where they stood at that
+  // moment. When a node is made, the scans of the stretch before it erase from the last this many
+  // finished nodes the points they saw through, as the local map does scan by scan (0: off).
+  // Needs merger.free_space_reasoning.
+  int clean_finished_nodes = 1;
 
   template <class V>
   void Visit(V& v) {
@@ -55,6 +60,7 @@ struct TrackerOptions {
     v("min_target_observations", min_target_observations);
     v("min_stable_target_fraction", min_stable_target_fraction);
     v("registration_covariance_scale", registration_covariance_scale);
+    v("clean_finished_nodes", clean_finished_nodes);
   }
   void Validate(OptionErrors& e) const {
     e.Require(min_translation_m >= 0.0, "min_translation_m", "must be non-negative");
@@ -71,6 +77,7 @@ struct TrackerOptions {
     e.Require(min_target_observations >= 0, "min_target_observations", "must be non-negative");
     e.Require(min_stable_target_fraction >= 0.0 && min_stable_target_fraction <= 1.0,
               "min_stable_target_fraction", "must be in [0, 1]");
+    e.Require(clean_finished_nodes >= 0, "clean_finished_nodes", "must be non-negative");
     e.Require(registration_covariance_scale > 0.0, "registration_covariance_scale",
               "must be positive");
   }
