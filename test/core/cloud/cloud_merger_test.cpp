@@ -188,6 +188,30 @@ TEST(CloudMerger, WithoutFreeSpaceReasoningNothingIsReplacedOrErased) {
   EXPECT_EQ(map.size(), 3u);
 }
 
+// A finished node's cloud takes no new points, only free space: a point is erased where a beam
+// ended behind it (a return or a no-return), kept where the beam ended at or before it, and
+// untouched where the reading observed nothing.
+TEST(CloudMerger, EraseSeenThroughRemovesOnlyWhatABeamPassed) {
+  const Cloud before = {PointAhead(3.0, -2.0), PointAhead(3.0, -1.0), PointAhead(3.0, 0.0),
+                        PointAhead(3.0, 1.0), PointAhead(3.0, 2.0)};
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // Beam 0 ended behind the point, beam 1 is a no-return, beam 2 ended on it, beam 3 in front of
+  // it, beam 4 observed nothing.
+  const LaserScan scan = FiveBeams({5.0f, kNoReturn, 3.05f, 1.0f, nan});
+  Cloud map = before;
+  CloudMerger merger(NoThinning());
+  EXPECT_EQ(merger.EraseSeenThrough(map, scan, Pose2(), 100), 2);
+  ASSERT_EQ(map.size(), 3u);
+  EXPECT_NEAR(map[0].point_m.y(), before[2].point_m.y(), 1e-12);
+  EXPECT_NEAR(map[1].point_m.y(), before[3].point_m.y(), 1e-12);
+  EXPECT_NEAR(map[2].point_m.y(), before[4].point_m.y(), 1e-12);
+  // Points seen in place more often than the limit stay.
+  map = before;
+  for (RichPoint& p : map) p.observations = 5;
+  EXPECT_EQ(merger.EraseSeenThrough(map, scan, Pose2(), 4), 0);
+  EXPECT_EQ(map.size(), before.size());
+}
+
 TEST(CloudMerger, FusedWeightsSaturate) {
   RichPoint a = PointAhead(1.0, 0.0, 900.0), b = PointAhead(1.0, 0.0, 300.0);
   EXPECT_DOUBLE_EQ(Fuse(a, b, 1000.0).weight, 1000.0);
