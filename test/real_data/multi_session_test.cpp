@@ -64,8 +64,10 @@ Session MapSession(const std::string& data, const std::string& args, const std::
 
 // Issue 5 asks, after ten sessions: at most 1.3x the nodes and 1.5x the file of session 1, and
 // session 10 within 10 % of session 1's relation error. Issue 8 asks twenty sessions without a
-// crash, peak RSS after session 20 within 1.2x of after session 2, and a flat file (here: session
-// 20 within 1.2x of session 2, and every session within the ten-session bounds).
+// crash, peak RSS after session 20 within 1.2x of after session 2, and a flat file. The file
+// follows the node count, which scatters from session to session (105-139 nodes, 5.2-7.0 MB):
+// one session against one other compares that scatter, not growth. Flat here: sessions 16-20
+// on average within 1.2x of sessions 2-6, and every session within the ten-session bounds.
 TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
   LTM_REQUIRE_REAL_DATA(data);
   const std::string dir = TempDir();
@@ -87,7 +89,15 @@ TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
     EXPECT_LE(sessions[k].file_bytes, 1.5 * first.file_bytes) << "session " << k + 1;
   }
   EXPECT_LE(sessions[9].error_m, 1.1 * first.error_m);
-  EXPECT_LE(sessions[19].file_bytes, 1.2 * second.file_bytes);
+  const auto mean_file_bytes = [&](std::size_t first_index) {
+    double sum = 0.0;
+    for (std::size_t k = first_index; k < first_index + 5; ++k) sum += sessions[k].file_bytes;
+    return sum / 5.0;
+  };
+  const double early_bytes = mean_file_bytes(1), late_bytes = mean_file_bytes(15);
+  std::printf("map file: sessions 2-6 %.2f MB, sessions 16-20 %.2f MB on average (%.2fx)\n",
+              early_bytes / 1e6, late_bytes / 1e6, late_bytes / early_bytes);
+  EXPECT_LE(late_bytes, 1.2 * early_bytes);
   EXPECT_LE(sessions[19].peak_rss_mb, 1.2 * second.peak_rss_mb);
 }
 

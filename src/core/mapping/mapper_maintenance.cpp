@@ -1,8 +1,8 @@
 // Long-term maintenance of the Mapper (ALGORITHMS.md §9): merging local maps that a loop closure
 // joined, removing the older node, condensing its edges.
 #include <algorithm>
-#include <map>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "longterm_mapper2d/core/graph/condensation.h"
@@ -180,8 +180,8 @@ void Mapper::CleanFinishedNode() {
     return;
   }
   std::vector<NodeId> finished = {*last_node_};
-  for (auto e = edges_.rbegin(); e != edges_.rend() && static_cast<int>(finished.size()) < max_nodes;
-       ++e) {
+  for (auto e = edges_.rbegin();
+       e != edges_.rend() && static_cast<int>(finished.size()) < max_nodes; ++e) {
     if (e->to != finished.back() || e->after_tracker_failure) break;
     finished.push_back(e->from);
   }
@@ -192,9 +192,9 @@ void Mapper::CleanFinishedNode() {
     if (node == nodes_.end() || tracker_T_node == tracker_T_node_.end()) continue;
     const Pose2 node_T_tracker = tracker_T_node->second.inverse();
     for (const PendingWaypoint& w : pending_waypoints_) {
-      erased += node_cleaner_.EraseSeenThrough(
-          node->second.cloud, w.scan, node_T_tracker * w.tracker_T_base * w.base_T_laser,
-          std::numeric_limits<int>::max());
+      erased += node_cleaner_.EraseSeenThrough(node->second.cloud, w.scan,
+                                               node_T_tracker * w.tracker_T_base * w.base_T_laser,
+                                               std::numeric_limits<int>::max());
     }
   }
   stats_.counters["finished_node_points_erased"] += erased;

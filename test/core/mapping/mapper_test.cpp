@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
-
 #include <Eigen/LU>
+#include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "testing/synthetic_scans.h"
@@ -181,6 +181,61 @@ TEST(Mapper, ATrackerFailureResetsTheLocalMapAndStartsANode) {
   for (const OdometryEdge& edge : mapper.edges()) failure_edge |= edge.after_tracker_failure;
   EXPECT_TRUE(failure_edge);
   for (const auto& pose : mapper.Trajectory()) EXPECT_TRUE(pose.pose.IsFinite());
+}
+
+// A person stands beside the route while the first node's stretch is driven and leaves when the
+// node is made, so the node's cloud (a snapshot of the local map) holds them. The scans of the next
+// stretch look through that place: once the next node is made, the finished node must not keep
+// the person, and must keep the walls.
+struct PersonInFinishedNode {
+  int person_points = 0;
+  std::size_t cloud_points = 0;
+};
+
+PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes) {
+  const auto world = LongWorld();
+  SyntheticLaser laser;
+  laser.beams = 270;
+  laser.fov_rad = 1.5 * M_PI;
+  laser.range_noise_m = 0.01;
+  const Eigen::Vector3d person(3.2, 1.5, 0.25);  // x, y, radius; the robot drives along y = 0.5
+  MapperOptions options;
+  options.tracker.clean_finished_nodes = clean_finished_nodes;
+  Mapper mapper(options);
+  std::vector<Pose2> truth;
+  for (int i = 0; i < 50; ++i) {  // 6 m: the first node at 2.5 m, the second at 5 m
+    truth.emplace_back(0.12 * i, 0.5, 0.0);
+    std::vector<Eigen::Vector3d> people;
+    if (mapper.nodes().empty()) people.push_back(person);
+    ScanInput input;
+    input.scan = CastScan(world, people, truth.back(), laser, 500 + i);
+    input.scan.stamp_s = 0.1 * i;
+    input.odom_T_base = truth.back();
+    mapper.AddScan(input);
+  }
+  PersonInFinishedNode result;
+  if (mapper.nodes().size() < 2) return result;
+  // The mapper's frame against the world's, from the first scan's pose.
+  const Pose2 map_T_world = mapper.Trajectory().front().pose * truth.front().inverse();
+  const LocalMapNode& first = mapper.nodes().begin()->second;
+  const Eigen::Vector2d person_in_node =
+      first.map_T_node.inverse() * (map_T_world * Eigen::Vector2d(person.head<2>()));
+  for (const RichPoint& p : first.cloud) {
+    if ((p.point_m - person_in_node).norm() < person.z() + 0.1) ++result.person_points;
+  }
+  result.cloud_points = first.cloud.size();
+  return result;
+}
+
+TEST(Mapper, AFinishedNodeForgetsWhatTheNextStretchSawThrough) {
+  const PersonInFinishedNode kept = MapPastALeavingPerson(0);
+  const PersonInFinishedNode cleaned = MapPastALeavingPerson(1);
+  std::printf("person points in the finished node: %d of %zu kept, %d of %zu cleaned\n",
+              kept.person_points, kept.cloud_points, cleaned.person_points, cleaned.cloud_points);
+  ASSERT_GE(kept.person_points, 5);  // the snapshot holds the person
+  EXPECT_EQ(cleaned.person_points, 0);
+  // Only the person (and a few grazing points) may go: the walls stay.
+  EXPECT_GE(cleaned.cloud_points + kept.person_points, kept.cloud_points * 95 / 100);
 }
 
 TEST(Mapper, ScansGoingBackInTimeAreSkipped) {

@@ -39,7 +39,9 @@ struct TrackerOptions {
   // A node's cloud is a snapshot of the local map, with the people in it where they stood at that
   // moment. When a node is made, the scans of the stretch before it erase from the last this many
   // finished nodes the points they saw through, as the local map does scan by scan (0: off).
-  // Needs merger.free_space_reasoning.
+  // Needs merger.free_space_reasoning. On the care home, 1 halves the phantom cells of the map
+  // clouds (797 -> 347 against 3317 without free-space reasoning); 2 and 3 clean more (237, 158)
+  // but change which loop closures intel's run accepts (mean relation error 0.049 -> 0.061-0.077).
   int clean_finished_nodes = 1;
 
   template <class V>
