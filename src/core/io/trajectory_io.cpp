@@ -2,7 +2,8 @@
 
 #include <cstdio>
 #include <fstream>
-#include <sstream>
+
+#include "longterm_mapper2d/core/io/number_table.h"
 
 namespace longterm_mapper2d {
 
@@ -21,23 +22,13 @@ Status WriteTrajectory(const std::string& path, const std::vector<StampedPose2>&
 }
 
 StatusOr<std::vector<StampedPose2>> ReadTrajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Status::Error("cannot open '" + path + "'");
+  const auto rows = ReadNumberTable(path, 4, "'stamp x y theta'");
+  if (!rows.ok()) return rows.status();
   std::vector<StampedPose2> trajectory;
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    double stamp, x, y, theta;
-    std::string extra;
-    if (!(fields >> stamp >> x >> y >> theta) || (fields >> extra)) {
-      return Status::Error(path + ":" + std::to_string(line_number) +
-                           ": expected 'stamp x y theta', got '" + line + "'");
-    }
-    trajectory.push_back({stamp, Pose2(x, y, theta)});
+  trajectory.reserve(rows->size());
+  for (const NumberRow& row : *rows) {
+    const std::vector<double>& v = row.values;
+    trajectory.push_back({v[0], Pose2(v[1], v[2], v[3])});
   }
   return trajectory;
 }

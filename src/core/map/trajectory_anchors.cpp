@@ -3,10 +3,9 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "longterm_mapper2d/core/io/atomic_file.h"
+#include "longterm_mapper2d/core/io/number_table.h"
 
 namespace longterm_mapper2d {
 
@@ -52,31 +51,19 @@ Status WriteTrajectoryAnchors(const std::string& path, const std::vector<Anchore
 }
 
 StatusOr<std::vector<AnchoredPose>> ReadTrajectoryAnchors(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Status::Error("cannot open '" + path + "'");
+  const auto rows = ReadNumberTable(path, 5, "'stamp node x y theta'");
+  if (!rows.ok()) return rows.status();
   std::vector<AnchoredPose> anchors;
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream fields(line);
-    AnchoredPose anchor;
-    std::int64_t node = 0;
-    double x, y, theta;
-    std::string extra;
-    if (!(fields >> anchor.stamp_s >> node >> x >> y >> theta) || (fields >> extra) ||
-        node < kMapFrame) {
-      return Status::Error(path + ":" + std::to_string(line_number) +
-                           ": expected 'stamp node x y theta', got '" + line + "'");
+  anchors.reserve(rows->size());
+  for (const NumberRow& row : *rows) {
+    const std::vector<double>& v = row.values;
+    // Node ids are integers from kMapFrame up; doubles hold them exactly below 2^53.
+    if (v[1] != std::floor(v[1]) || v[1] < static_cast<double>(kMapFrame) || v[1] > 9.0e15) {
+      return Status::Error(path + ":" + std::to_string(row.line_number) +
+                           ": the node must be an integer from " + std::to_string(kMapFrame) +
+                           " up, got " + std::to_string(v[1]));
     }
-    anchor.node = node;
-    anchor.pose = Pose2(x, y, theta);
-    if (!anchor.pose.IsFinite() || !std::isfinite(anchor.stamp_s)) {
-      return Status::Error(path + ":" + std::to_string(line_number) + ": non-finite value");
-    }
-    anchors.push_back(anchor);
+    anchors.push_back({v[0], static_cast<NodeId>(v[1]), Pose2(v[2], v[3], v[4])});
   }
   return anchors;
 }

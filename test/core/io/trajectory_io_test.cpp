@@ -23,6 +23,13 @@ TEST(TrajectoryIo, RoundTripsAndNamesMalformedLines) {
   const auto bad = ReadTrajectory(path);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.status().message().find(path + ":4:"), std::string::npos) << bad.status().message();
+  {
+    std::ofstream out(path);
+    out << "1 2 3 0.1\n2 nan 3 0.2\n";
+  }
+  const auto not_finite = ReadTrajectory(path);
+  ASSERT_FALSE(not_finite.ok());
+  EXPECT_NE(not_finite.status().message().find(path + ":2:"), std::string::npos);
   std::remove(path.c_str());
   EXPECT_FALSE(WriteTrajectory("/nonexistent/dir/t.txt", trajectory).ok());
 }

@@ -58,8 +58,9 @@ TEST(TrajectoryAnchors, FilesRoundTripAndBadLinesAreRefused) {
   EXPECT_EQ((*read)[1].node, kMapFrame);
   EXPECT_NEAR((*read)[0].stamp_s, 976052857.337, 1e-6);
   EXPECT_NEAR((*read)[0].pose.y(), -1.5, 1e-6);
-  for (const char* bad : {"1.0 3 0.1 0.2\n", "1.0 3 0.1 0.2 0.3 9\n", "1.0 -2 0 0 0\n",
-                          "1.0 x 0 0 0\n", "1.0 3 nan 0 0\n"}) {
+  for (const char* bad :
+       {"1.0 3 0.1 0.2\n", "1.0 3 0.1 0.2 0.3 9\n", "1.0 -2 0 0 0\n", "1.0 x 0 0 0\n",
+        "1.0 3 nan 0 0\n", "1.0 3.5 0 0 0\n", "1.0 1e300 0 0 0\n"}) {
     std::ofstream(dir + "/bad.txt") << "# header\n" << bad;
     const auto refused = ReadTrajectoryAnchors(dir + "/bad.txt");
     ASSERT_FALSE(refused.ok()) << bad;
