@@ -48,7 +48,7 @@ sources_of() {
   case "$1" in
     carmen) echo io/carmen_reader io/atomic_file sensor/odometry_buffer geometry/pose2 ;;
     g2o) echo io/g2o_io io/atomic_file graph/pose_graph geometry/pose2 ;;
-    relations) echo io/relations_reader geometry/pose2 ;;
+    relations) echo io/relations_reader io/number_table geometry/pose2 ;;
     ltmap) echo map/session_map_file io/binary_io io/atomic_file geometry/pose2 ;;
   esac
 }
