@@ -1,6 +1,7 @@
 #include "longterm_mapper2d/core/cloud/cloud_merger.h"
 
 #include <cmath>
+#include <optional>
 
 #include "longterm_mapper2d/core/geometry/fast_atan2.h"
 
@@ -13,6 +14,25 @@ void Compact(Cloud& cloud, const std::vector<char>& remove) {
     if (!remove[i]) cloud[out++] = cloud[i];
   }
   cloud.resize(out);
+}
+
+// How far beam `beam` of `scan` proves space free: nothing if the reading observes nothing (NaN,
+// below range_min); a no-return beam up to `free_space_max_range_m`; a return at or past
+// `returns_from_m` up to the return; a nearer return 0 (it became a point: the point rules
+// decide).
+std::optional<double> FreeUntil(const LaserScan& scan, int beam, double returns_from_m,
+                                double free_space_max_range_m) {
+  const float r = scan.ranges[beam];
+  if (std::isnan(r) || (std::isfinite(r) && r < scan.range_min_m)) return std::nullopt;
+  if (!std::isfinite(r) || r >= scan.range_max_m) return free_space_max_range_m;
+  return r >= returns_from_m ? static_cast<double>(r) : 0.0;
+}
+
+// The scan's own beams as the projector's bins (bin i is beam i), down to the sensor.
+ProjectorGeometry BeamsOf(const LaserScan& scan) {
+  ProjectorGeometry geometry = ProjectorGeometry::FromScan(scan, 1e9);
+  geometry.min_range_m = 0.0;
+  return geometry;
 }
 
 }  // namespace
@@ -34,8 +54,7 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
                               const Pose2& frame_T_laser, double max_point_range_m) {
   MergeStats stats;
   // The map is seen through the scan's own beams: bin i is beam i.
-  ProjectorGeometry geometry = ProjectorGeometry::FromScan(scan, 1e9);
-  geometry.min_range_m = 0.0;
+  const ProjectorGeometry geometry = BeamsOf(scan);
   const Pose2 laser_T_frame = frame_T_laser.inverse();
   ProjectCloud(geometry, laser_T_frame, map, &image_);
   src_of_beam_.assign(scan.ranges.size(), -1);
@@ -92,17 +111,11 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
       continue;
     }
     if (old_index < 0 || !options_.free_space_reasoning) continue;
-    // No new point in this bin: what did the beam see?
-    const float r = scan.ranges[beam];
-    double free_until = 0.0;
-    if (std::isnan(r) || (std::isfinite(r) && r < scan.range_min_m)) {
-      continue;  // not an observation
-    } else if (!std::isfinite(r) || r >= scan.range_max_m) {
-      free_until = options_.free_space_max_range_m;  // no return: free up to the cap
-    } else if (r >= max_point_range_m) {
-      free_until = r;  // a return too far to keep as a point, but the beam got there
-    }
-    if (r_old + tau < free_until) {
+    // No new point in this bin: what did the beam see? (A return too far to keep as a point
+    // still proves the space before it free.)
+    const auto free_until =
+        FreeUntil(scan, beam, max_point_range_m, options_.free_space_max_range_m);
+    if (free_until && r_old + tau < *free_until) {
       remove_[old_index] = 1;
       ++stats.erased;
     }
@@ -115,19 +128,16 @@ MergeStats CloudMerger::Merge(Cloud& map, const Cloud& scan_points,
 
 int CloudMerger::EraseSeenThrough(Cloud& map, const LaserScan& scan, const Pose2& frame_T_laser,
                                   int max_observations) {
-  ProjectorGeometry geometry = ProjectorGeometry::FromScan(scan, 1e9);
-  geometry.min_range_m = 0.0;
+  const ProjectorGeometry geometry = BeamsOf(scan);
   ProjectCloud(geometry, frame_T_laser.inverse(), map, &image_);
   remove_.assign(map.size(), 0);
   int erased = 0;
   for (int beam = 0; beam < geometry.num_bins; ++beam) {
     const int old_index = image_.nearest[beam];
     if (old_index < 0 || map[old_index].observations > max_observations) continue;
-    const float r = scan.ranges[beam];
-    if (std::isnan(r) || (std::isfinite(r) && r < scan.range_min_m)) continue;
-    const double free_until =
-        !std::isfinite(r) || r >= scan.range_max_m ? options_.free_space_max_range_m : r;
-    if (image_.ranges_m[beam] + options_.merge_distance_m < free_until) {
+    // Every return counts here: the snapshot takes no new points.
+    const auto free_until = FreeUntil(scan, beam, 0.0, options_.free_space_max_range_m);
+    if (free_until && image_.ranges_m[beam] + options_.merge_distance_m < *free_until) {
       remove_[old_index] = 1;
       ++erased;
     }
