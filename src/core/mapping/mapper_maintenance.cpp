@@ -174,7 +174,8 @@ void Mapper::CleanFinishedNode() {
   // The pending waypoints are the stretch since the last node, placed in the tracker frame of the
   // nodes before it as long as the tracker did not fail on the way (after a failure odometry
   // placed the scans: no free-space claims from them).
-  const int max_nodes = options_.tracker.clean_finished_nodes;
+  const TrackerOptions& tracker = options_.tracker;
+  const int max_nodes = std::max(tracker.clean_finished_nodes, tracker.clean_moved_nodes);
   if (max_nodes <= 0 || !options_.merger.free_space_reasoning || !last_node_ ||
       stretch_after_failure_ || pending_waypoints_.empty()) {
     return;
@@ -186,15 +187,20 @@ void Mapper::CleanFinishedNode() {
     finished.push_back(e->from);
   }
   int erased = 0;
-  for (const NodeId id : finished) {
-    const auto node = nodes_.find(id);
-    const auto tracker_T_node = tracker_T_node_.find(id);
+  for (std::size_t back = 0; back < finished.size(); ++back) {
+    const auto node = nodes_.find(finished[back]);
+    const auto tracker_T_node = tracker_T_node_.find(finished[back]);
     if (node == nodes_.end() || tracker_T_node == tracker_T_node_.end()) continue;
+    // Older nodes lose only what was seen moving: their wall points, seen from farther along the
+    // route at grazing angles, are what later alignments with them rest on.
+    const int max_observations = static_cast<int>(back) < tracker.clean_finished_nodes
+                                     ? std::numeric_limits<int>::max()
+                                     : 0;
     const Pose2 node_T_tracker = tracker_T_node->second.inverse();
     for (const PendingWaypoint& w : pending_waypoints_) {
       erased += node_cleaner_.EraseSeenThrough(node->second.cloud, w.scan,
                                                node_T_tracker * w.tracker_T_base * w.base_T_laser,
-                                               std::numeric_limits<int>::max());
+                                               max_observations);
     }
   }
   stats_.counters["finished_node_points_erased"] += erased;

@@ -155,12 +155,11 @@ TEST(CareHome, FreeSpaceMergingKeepsPeopleOutOfTheMapClouds) {
       "%lld phantom cells, precision %.3f\n",
       static_cast<long long>(with.phantom), with.precision, static_cast<long long>(without.phantom),
       without.precision);
-  // Measured: 347 against 3317 phantom cells (0.105x), precision 0.966 against 0.754 (797 and
-  // 0.926 before finished nodes were cleaned by the next stretch's scans). The goal (0.1x,
-  // precision 0.97) is nearly met; cleaning two or three finished nodes meets it on this world
-  // (0.071x / 0.048x) but moves intel's loop closing (see tracker.clean_finished_nodes).
-  EXPECT_LE(with.phantom, 0.15 * without.phantom);
-  EXPECT_GE(with.precision, 0.95);
+  // Measured: 191 against 3317 phantom cells (0.058x), precision 0.981 against 0.754. Before the
+  // finished nodes lost their seen-moving points 347 (0.105x) and 0.966; before the last node was
+  // cleaned by the next stretch's scans 797 and 0.926.
+  EXPECT_LE(with.phantom, 0.10 * without.phantom);
+  EXPECT_GE(with.precision, 0.97);
   EXPECT_GT(with.precision, without.precision);
 }
 

@@ -192,7 +192,7 @@ struct PersonInFinishedNode {
   std::size_t cloud_points = 0;
 };
 
-PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes) {
+PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes, int clean_moved_nodes) {
   const auto world = LongWorld();
   SyntheticLaser laser;
   laser.beams = 270;
@@ -201,6 +201,7 @@ PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes) {
   const Eigen::Vector3d person(3.2, 1.5, 0.25);  // x, y, radius; the robot drives along y = 0.5
   MapperOptions options;
   options.tracker.clean_finished_nodes = clean_finished_nodes;
+  options.tracker.clean_moved_nodes = clean_moved_nodes;
   Mapper mapper(options);
   std::vector<Pose2> truth;
   for (int i = 0; i < 50; ++i) {  // 6 m: the first node at 2.5 m, the second at 5 m
@@ -228,14 +229,22 @@ PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes) {
 }
 
 TEST(Mapper, AFinishedNodeForgetsWhatTheNextStretchSawThrough) {
-  const PersonInFinishedNode kept = MapPastALeavingPerson(0);
-  const PersonInFinishedNode cleaned = MapPastALeavingPerson(1);
-  std::printf("person points in the finished node: %d of %zu kept, %d of %zu cleaned\n",
-              kept.person_points, kept.cloud_points, cleaned.person_points, cleaned.cloud_points);
+  const PersonInFinishedNode kept = MapPastALeavingPerson(0, 0);
+  const PersonInFinishedNode cleaned = MapPastALeavingPerson(1, 0);
+  // The person stood still while the node was built: seen in place, not seen moving, so cleaning
+  // only the seen-moving points of finished nodes leaves them.
+  const PersonInFinishedNode moved_only = MapPastALeavingPerson(0, 3);
+  std::printf(
+      "person points in the finished node: %d of %zu kept, %d of %zu cleaned, %d of %zu with "
+      "only seen-moving points cleaned\n",
+      kept.person_points, kept.cloud_points, cleaned.person_points, cleaned.cloud_points,
+      moved_only.person_points, moved_only.cloud_points);
   ASSERT_GE(kept.person_points, 5);  // the snapshot holds the person
   EXPECT_EQ(cleaned.person_points, 0);
+  EXPECT_EQ(moved_only.person_points, kept.person_points);
   // Only the person (and a few grazing points) may go: the walls stay.
   EXPECT_GE(cleaned.cloud_points + kept.person_points, kept.cloud_points * 95 / 100);
+  EXPECT_GE(moved_only.cloud_points, kept.cloud_points * 95 / 100);
 }
 
 TEST(Mapper, ScansGoingBackInTimeAreSkipped) {
