@@ -15,14 +15,22 @@
 namespace longterm_mapper2d {
 namespace {
 
-// Shortest path lengths (Euclidean edge lengths between node positions) from `source`, up to
-// `limit`, along odometry edges: nodes that a closure or a merge (condensed edges) joined are
-// still candidates, so a revisited place keeps finding its old local maps and merging them.
-std::map<GraphNodeId, double> GraphDistances(const PoseGraph& graph, GraphNodeId source,
-                                             double limit) {
+double Shrink(double value, double by) {
+  return value > by ? value - by : (value < -by ? value + by : 0.0);
+}
+
+}  // namespace
+
+std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
+                                                  double limit, bool tracker_chain_only) {
   std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
+  const int session = graph.node(source).session_id;
   for (const GraphEdge& e : graph.edges()) {
     if (e.kind != EdgeKind::kOdometry) continue;
+    if (tracker_chain_only &&
+        (graph.node(e.from).session_id != session || graph.node(e.to).session_id != session)) {
+      continue;
+    }
     adjacency[e.from].push_back(e.to);
     adjacency[e.to].push_back(e.from);
   }
@@ -48,12 +56,6 @@ std::map<GraphNodeId, double> GraphDistances(const PoseGraph& graph, GraphNodeId
   return distance;
 }
 
-double Shrink(double value, double by) {
-  return value > by ? value - by : (value < -by ? value + by : 0.0);
-}
-
-}  // namespace
-
 LoopCloser::LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration)
     : options_(options), coarse_(registration), fine_(registration) {
   coarse_.max_correspondence_distance_m = options.coarse_correspondence_m;
@@ -77,7 +79,9 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
     const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
     std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const {
   const Pose2& pose = graph.node(node).pose;
-  const auto near_in_graph = GraphDistances(graph, node, options_.min_graph_distance_m);
+  // Along odometry edges only: nodes that a closure or a merge joined are still candidates, so a
+  // revisited place keeps finding its old local maps and merging them.
+  const auto near_in_graph = OdometryPathLengths(graph, node, options_.min_graph_distance_m);
   std::vector<GraphNodeId> nearby;
   for (const auto& [id, other] : graph.nodes()) {
     if (id == node || near_in_graph.count(id)) continue;
@@ -153,7 +157,9 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
   if (!options_.enabled || !graph.HasNode(node)) return;
   std::map<GraphNodeId, Eigen::Matrix2d> offset_covariance;
   const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats, &offset_covariance);
-  if (candidates.empty()) return;
+  // Waiting loops the graph has drifted away from are tried from this node too, where they put it.
+  const std::map<GraphNodeId, std::vector<Pose2>> predicted = PredictFromWaiting(graph, node);
+  if (candidates.empty() && predicted.empty()) return;
   ScopedStageTimer timer(stats.stage_times, "loop_closing_alignment");
   // Connected sets of candidates (joined by graph edges among candidates); in each, the nearest.
   std::set<GraphNodeId> remaining(candidates.begin(), candidates.end());
@@ -198,6 +204,9 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       align(id);
     }
   }
+  for (const auto& [target, unused] : predicted) {
+    if (tried.insert(target).second) olds.push_back(target);
+  }
   if (olds.empty()) return;
 
   // Each old map is tried from the graph's guess, then from its heading alone; the first guess
@@ -235,11 +244,21 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       }
     }
   };
+  const std::map<GraphNodeId, double> chain_m =
+      options_.chain_gate_max_path_m > 0.0
+          ? OdometryPathLengths(graph, node, options_.chain_gate_max_path_m, true)
+          : std::map<GraphNodeId, double>{};
   std::vector<Pose2> graph_guesses(olds.size());  // new_T_old as the graph has it
   std::vector<std::vector<Pose2>> guesses(olds.size());
   for (std::size_t k = 0; k < olds.size(); ++k) {
     graph_guesses[k] = pose.Between(graph.node(olds[k]).pose);
     guesses[k] = {graph_guesses[k], Pose2(0.0, 0.0, graph_guesses[k].theta())};
+    const auto prediction = predicted.find(olds[k]);
+    if (prediction == predicted.end()) continue;
+    // An old node only a prediction reaches is tried where the prediction puts it, not where the
+    // drifted graph does.
+    if (!offset_covariance.count(olds[k])) guesses[k].clear();
+    guesses[k].insert(guesses[k].end(), prediction->second.begin(), prediction->second.end());
   }
   try_in_rounds(guesses);
 
@@ -271,7 +290,19 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       if (outcomes[k].degenerate) ++stats.counters["loop_closure_alignments_degenerate"];
       continue;
     }
-    if (options_.innovation_gate > 0.0) {
+    // The new node seen from the old one: where the alignment puts it against the graph.
+    const Pose2 innovation = graph_guesses[k].inverse().Between(outcomes[k].pose->inverse());
+    const auto path = chain_m.find(olds[k]);
+    if (path != chain_m.end() &&
+        (innovation.translation().norm() >
+             options_.chain_gate_m + options_.chain_gate_per_m * path->second ||
+         std::abs(innovation.theta()) >
+             options_.chain_gate_rad + options_.chain_gate_rad_per_m * path->second)) {
+      ++stats.counters["loop_closure_alignments_against_chain"];
+      continue;
+    }
+    // Nodes only a prediction reached have no marginal here: the vote judges them.
+    if (options_.innovation_gate > 0.0 && offset_covariance.count(olds[k])) {
       // The new node seen from the old one: measured against where the graph has it.
       const Eigen::Vector2d innovation =
           outcomes[k].pose->inverse().translation() - graph_guesses[k].inverse().translation();
@@ -286,6 +317,46 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
     ++stats.counters["loop_closure_candidates"];
     AddCandidate({node, olds[k], *outcomes[k].pose});
   }
+}
+
+std::map<GraphNodeId, std::vector<Pose2>> LoopCloser::PredictFromWaiting(const PoseGraph& graph,
+                                                                         GraphNodeId node) const {
+  std::map<GraphNodeId, std::vector<Pose2>> predicted;
+  if (!options_.vote_predict_from_waiting) return predicted;
+  const Eigen::Matrix3d information = ClosureInformation();
+  std::map<GraphNodeId, std::vector<GraphNodeId>> neighbours;
+  const Pose2& pose = graph.node(node).pose;
+  for (const ClosureCandidate& c : buffer_) {
+    if (c.local == node || ages_.count(c.old) || !graph.HasNode(c.local) ||
+        !graph.HasNode(c.old)) {
+      continue;
+    }
+    const Eigen::Vector3d e =
+        EdgeError(graph.node(c.local).pose, graph.node(c.old).pose, c.local_T_old);
+    if (e.dot(information * e) < options_.vote_outlier_chi2) continue;
+    if (neighbours.empty()) {
+      for (const GraphEdge& edge : graph.edges()) {
+        if (edge.kind != EdgeKind::kOdometry) continue;
+        neighbours[edge.from].push_back(edge.to);
+        neighbours[edge.to].push_back(edge.from);
+      }
+    }
+    // node_T_old if the candidate holds and the sub-map between its node and this one is right.
+    const Pose2 node_T_old = pose.Between(graph.node(c.local).pose) * c.local_T_old;
+    std::vector<GraphNodeId> targets = {c.old};
+    targets.insert(targets.end(), neighbours[c.old].begin(), neighbours[c.old].end());
+    for (GraphNodeId target : targets) {
+      if (target == node || ages_.count(target) ||
+          accepted_pairs_.count({std::min(node, target), std::max(node, target)})) {
+        continue;
+      }
+      const Pose2 guess = node_T_old * graph.node(c.old).pose.Between(graph.node(target).pose);
+      if (guess.translation().norm() > options_.max_distance_m) continue;
+      std::vector<Pose2>& guesses = predicted[target];
+      if (guesses.size() < 2) guesses.push_back(guess);
+    }
+  }
+  return predicted;
 }
 
 void LoopCloser::AddCandidate(const ClosureCandidate& candidate) {

@@ -131,6 +131,106 @@ TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {
   EXPECT_EQ(stats.counters["loop_closure_alignments_implausible"], 1u);
 }
 
+TEST(LoopCloser, AnAlignmentFarFromAShortTrackerChainIsNotKept) {
+  // As above, but the tracker's chain from node 0 to node 1 (through node 2) is 7.6 m long and
+  // loose enough for both gates; the alignment puts node 1 4 m from where that chain has it,
+  // beyond what the tracker drifts over it (0.5 m + 0.3 * 7.6 m). Aces' corridors gave such
+  // closures 6-7 m long between nodes two or three apart.
+  const auto room = test_support::IrregularRoom();
+  const Pose2 old_pose(0.0, 0.0, 0.0), new_in_clouds(0.5, 0.3, 0.1);
+  const Pose2 new_in_graph = Pose2(4.0, 0.0, 0.0) * new_in_clouds;
+  PoseGraph graph;
+  for (const auto& [id, pose] :
+       std::map<GraphNodeId, Pose2>{{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 3.0, 0.0)}}) {
+    GraphNode node;
+    node.id = id;
+    node.pose = pose;
+    ASSERT_TRUE(graph.AddNode(node).ok());
+  }
+  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 2}, {2, 1}}) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
+    edge.information = Eigen::Vector3d(0.5, 0.5, 1e4).asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    ASSERT_TRUE(graph.AddEdge(edge).ok());
+  }
+  const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
+                                               {1, CloudAt(room, new_in_clouds, 8)}};
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  LoopClosingOptions options;
+  options.innovation_gate = 0.0;
+  options.chain_gate_max_path_m = 0.0;
+  MapperStats stats;
+  LoopCloser unchained(options, RegistrationOptions{});
+  unchained.SearchFrom(graph, 1, cloud_of, stats, false);
+  ASSERT_EQ(unchained.buffer().size(), 1u);  // the clouds do align
+  options.chain_gate_max_path_m = 30.0;
+  LoopCloser chained(options, RegistrationOptions{});
+  chained.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_TRUE(chained.buffer().empty());
+  EXPECT_EQ(stats.counters["loop_closure_alignments_against_chain"], 1u);
+  // A longer allowance per metre lets it through.
+  options.chain_gate_per_m = 0.5;
+  LoopCloser lenient(options, RegistrationOptions{});
+  lenient.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_EQ(lenient.buffer().size(), 1u);
+}
+
+TEST(LoopCloser, AWaitingLoopIsTriedFromTheNextNodeWhereItPutsIt) {
+  // Nodes 10 and 11 revisit old nodes 0 and 1, but the graph has drifted 30 m away: no old node
+  // is near enough to search. Node 10's closure with node 0 waits for support; it says where node
+  // 11 is against node 0 and its neighbour 1, and there node 11 is aligned with both.
+  const auto room = test_support::IrregularRoom();
+  const std::map<GraphNodeId, Pose2> truth = {{0, Pose2(0.0, 0.0, 0.0)},
+                                              {1, Pose2(1.0, 0.5, 0.2)},
+                                              {10, Pose2(0.5, 0.3, 0.1)},
+                                              {11, Pose2(0.8, -0.4, -0.2)}};
+  const Pose2 drift(30.0, 0.0, 0.5);
+  PoseGraph graph;
+  std::map<GraphNodeId, Cloud> clouds;
+  for (const auto& [id, pose] : truth) {
+    GraphNode node;
+    node.id = id;
+    node.pose = id >= 10 ? drift * pose : pose;
+    ASSERT_TRUE(graph.AddNode(node).ok());
+    clouds[id] = CloudAt(room, pose, 8);
+  }
+  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 1}, {10, 11}}) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
+    edge.information = Eigen::Vector3d(100.0, 100.0, 1e3).asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    ASSERT_TRUE(graph.AddEdge(edge).ok());
+  }
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  for (const bool predict : {false, true}) {
+    LoopClosingOptions options;
+    options.vote_predict_from_waiting = predict;
+    LoopCloser closer(options, RegistrationOptions{});
+    closer.AddCandidate({10, 0, truth.at(10).Between(truth.at(0))});
+    MapperStats stats;
+    closer.SearchFrom(graph, 11, cloud_of, stats, false);
+    if (!predict) {
+      EXPECT_EQ(closer.buffer().size(), 1u);
+      EXPECT_EQ(stats.counters["loop_closure_alignments"], 0u);
+      continue;
+    }
+    ASSERT_EQ(closer.buffer().size(), 3u);
+    EXPECT_EQ(stats.counters["loop_closure_alignments"], 2u);
+    for (std::size_t i = 1; i < 3; ++i) {
+      const ClosureCandidate& found = closer.buffer()[i];
+      EXPECT_EQ(found.local, 11);
+      const Pose2 expected = truth.at(11).Between(truth.at(found.old));
+      EXPECT_LT((found.local_T_old.translation() - expected.translation()).norm(), 0.02);
+      EXPECT_LT(std::abs(NormalizeAngle(found.local_T_old.theta() - expected.theta())), 0.01);
+    }
+  }
+}
+
 // Old nodes 0..5 along a line; the robot comes back (nodes 10..15) with a rigid drift.
 PoseGraph Revisit() {
   PoseGraph graph;

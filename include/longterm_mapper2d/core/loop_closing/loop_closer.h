@@ -22,6 +22,13 @@ struct ClosureCandidate {
   Pose2 local_T_old;
 };
 
+// Shortest path lengths from `source` along odometry edges (Euclidean lengths between the nodes'
+// poses), for the nodes within `limit_m`. Nodes that a closure or a merge (condensed edges) joined
+// are not near on this measure. `tracker_chain_only`: only through the source's own session (the
+// edge tying a session's first node to a loaded map is a prior, not a tracker measurement).
+std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
+                                                  double limit_m, bool tracker_chain_only = false);
+
 // Finds loop closures for new nodes (candidates within a Mahalanobis gate, grouped into
 // connected sets, the nearest of each set aligned map-to-map and validated) and accepts them by
 // the hypothesise-and-verify vote over a rigid sub-map (ALGORITHMS.md §7-8).
@@ -62,6 +69,10 @@ class LoopCloser {
       const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
       std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
   Eigen::Matrix3d ClosureInformation() const;
+  // Where the waiting candidates that disagree with the graph put `node` against their old
+  // nodes and those nodes' odometry neighbours: node_T_old guesses per old node (at most two).
+  std::map<GraphNodeId, std::vector<Pose2>> PredictFromWaiting(const PoseGraph& graph,
+                                                               GraphNodeId node) const;
 
   LoopClosingOptions options_;
   RegistrationOptions coarse_;

@@ -21,6 +21,18 @@ struct LoopClosingOptions {
   // stretch metres away and still validate, and the vote then finds it consistent with the
   // closures inside the new sub-map, which hold wherever the sub-map is placed.
   double innovation_gate = 5.99;
+  // An alignment between nodes at most chain_gate_max_path_m apart along the odometry chain must
+  // agree with the chain within chain_gate_m + chain_gate_per_m * path (translation of the new
+  // node seen from the old) and chain_gate_rad + chain_gate_rad_per_m * path (0: no such test).
+  // The graph's covariance along a corridor is loose (the registrations' is scaled up), so the
+  // innovation gate passes a slide of metres to a look-alike stretch a few nodes back (aces:
+  // 6-7 m at 2-3 nodes); the tracker does not drift that much (fr079 keeps a 1.1 m, 0.17 rad
+  // correction over 5.8 m, which these bounds allow).
+  double chain_gate_max_path_m = 30.0;
+  double chain_gate_m = 0.5;
+  double chain_gate_per_m = 0.3;
+  double chain_gate_rad = 0.3;
+  double chain_gate_rad_per_m = 0.02;
   // Of each connected set of candidates only the nearest is aligned, except that every node of an
   // earlier session nearer than this is aligned too: such nodes at one place are duplicates (left
   // by sessions whose closures there failed), and each needs its own closure to be merged away.
@@ -58,6 +70,11 @@ struct LoopClosingOptions {
   // distinct old nodes among them), so that several candidates against one old local map are
   // one piece of evidence, not several.
   bool vote_distinct_nodes = true;
+  // A waiting candidate that disagrees with the graph by more than vote_outlier_chi2 (a loop the
+  // graph has drifted away from) predicts where the next nodes sit against its old node: they are
+  // aligned there, with the old node and its odometry neighbours, even out of the search's reach.
+  // Without it a large loop has one candidate and never the support of two distinct nodes.
+  bool vote_predict_from_waiting = true;
   // Drift of the trajectory per metre between two candidates' nodes, added to the closure's
   // covariance when one is scored against the other's hypothesis (0: the rigid test alone).
   double vote_drift_per_m = 0.05;
@@ -73,6 +90,11 @@ struct LoopClosingOptions {
     v("mahalanobis_gate", mahalanobis_gate);
     v("perception_range_m", perception_range_m);
     v("innovation_gate", innovation_gate);
+    v("chain_gate_max_path_m", chain_gate_max_path_m);
+    v("chain_gate_m", chain_gate_m);
+    v("chain_gate_per_m", chain_gate_per_m);
+    v("chain_gate_rad", chain_gate_rad);
+    v("chain_gate_rad_per_m", chain_gate_rad_per_m);
     v("duplicate_radius_m", duplicate_radius_m);
     v("coarse_correspondence_m", coarse_correspondence_m);
     v("fine_correspondence_m", fine_correspondence_m);
@@ -91,6 +113,7 @@ struct LoopClosingOptions {
     v("vote_window", vote_window);
     v("vote_outlier_chi2", vote_outlier_chi2);
     v("vote_distinct_nodes", vote_distinct_nodes);
+    v("vote_predict_from_waiting", vote_predict_from_waiting);
     v("vote_drift_per_m", vote_drift_per_m);
     v("vote_drift_rad_per_m", vote_drift_rad_per_m);
     v("optimizer_iterations", optimizer_iterations);
@@ -101,6 +124,11 @@ struct LoopClosingOptions {
     e.Require(mahalanobis_gate > 0.0, "mahalanobis_gate", "must be positive");
     e.Require(perception_range_m >= 0.0, "perception_range_m", "must be non-negative");
     e.Require(innovation_gate >= 0.0, "innovation_gate", "must be non-negative (0: off)");
+    e.Require(chain_gate_max_path_m >= 0.0, "chain_gate_max_path_m", "must be non-negative (0: off)");
+    e.Require(chain_gate_m >= 0.0 && chain_gate_per_m >= 0.0, "chain_gate_m",
+              "the chain gate's translation bounds must be non-negative");
+    e.Require(chain_gate_rad >= 0.0 && chain_gate_rad_per_m >= 0.0, "chain_gate_rad",
+              "the chain gate's rotation bounds must be non-negative");
     e.Require(duplicate_radius_m >= 0.0, "duplicate_radius_m", "must be non-negative");
     e.Require(coarse_correspondence_m >= fine_correspondence_m && fine_correspondence_m > 0.0,
               "fine_correspondence_m", "must be positive and at most coarse_correspondence_m");
