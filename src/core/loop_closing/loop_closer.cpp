@@ -327,8 +327,7 @@ std::map<GraphNodeId, std::vector<Pose2>> LoopCloser::PredictFromWaiting(const P
   std::map<GraphNodeId, std::vector<GraphNodeId>> neighbours;
   const Pose2& pose = graph.node(node).pose;
   for (const ClosureCandidate& c : buffer_) {
-    if (c.local == node || ages_.count(c.old) || !graph.HasNode(c.local) ||
-        !graph.HasNode(c.old)) {
+    if (c.local == node || ages_.count(c.old) || !graph.HasNode(c.local) || !graph.HasNode(c.old)) {
       continue;
     }
     const Eigen::Vector3d e =

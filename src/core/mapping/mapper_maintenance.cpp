@@ -193,9 +193,8 @@ void Mapper::CleanFinishedNode() {
     if (node == nodes_.end() || tracker_T_node == tracker_T_node_.end()) continue;
     // Older nodes lose only what was seen moving: their wall points, seen from farther along the
     // route at grazing angles, are what later alignments with them rest on.
-    const int max_observations = static_cast<int>(back) < tracker.clean_finished_nodes
-                                     ? std::numeric_limits<int>::max()
-                                     : 0;
+    const int max_observations =
+        static_cast<int>(back) < tracker.clean_finished_nodes ? std::numeric_limits<int>::max() : 0;
     const Pose2 node_T_tracker = tracker_T_node->second.inverse();
     for (const PendingWaypoint& w : pending_waypoints_) {
       erased += node_cleaner_.EraseSeenThrough(node->second.cloud, w.scan,

@@ -124,7 +124,8 @@ struct LoopClosingOptions {
     e.Require(mahalanobis_gate > 0.0, "mahalanobis_gate", "must be positive");
     e.Require(perception_range_m >= 0.0, "perception_range_m", "must be non-negative");
     e.Require(innovation_gate >= 0.0, "innovation_gate", "must be non-negative (0: off)");
-    e.Require(chain_gate_max_path_m >= 0.0, "chain_gate_max_path_m", "must be non-negative (0: off)");
+    e.Require(chain_gate_max_path_m >= 0.0, "chain_gate_max_path_m",
+              "must be non-negative (0: off)");
     e.Require(chain_gate_m >= 0.0 && chain_gate_per_m >= 0.0, "chain_gate_m",
               "the chain gate's translation bounds must be non-negative");
     e.Require(chain_gate_rad >= 0.0 && chain_gate_rad_per_m >= 0.0, "chain_gate_rad",
