@@ -290,22 +290,21 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       if (outcomes[k].degenerate) ++stats.counters["loop_closure_alignments_degenerate"];
       continue;
     }
-    // The new node seen from the old one: where the alignment puts it against the graph.
-    const Pose2 innovation = graph_guesses[k].inverse().Between(outcomes[k].pose->inverse());
+    // The new node seen from the old one: where the alignment puts it against where the graph
+    // has it (one innovation for both gates).
+    const Eigen::Vector2d innovation =
+        outcomes[k].pose->inverse().translation() - graph_guesses[k].inverse().translation();
+    const double turn_rad =
+        std::abs(NormalizeAngle(outcomes[k].pose->theta() - graph_guesses[k].theta()));
     const auto path = chain_m.find(olds[k]);
     if (path != chain_m.end() &&
-        (innovation.translation().norm() >
-             options_.chain_gate_m + options_.chain_gate_per_m * path->second ||
-         std::abs(innovation.theta()) >
-             options_.chain_gate_rad + options_.chain_gate_rad_per_m * path->second)) {
+        (innovation.norm() > options_.chain_gate_m + options_.chain_gate_per_m * path->second ||
+         turn_rad > options_.chain_gate_rad + options_.chain_gate_rad_per_m * path->second)) {
       ++stats.counters["loop_closure_alignments_against_chain"];
       continue;
     }
     // Nodes only a prediction reached have no marginal here: the vote judges them.
     if (options_.innovation_gate > 0.0 && offset_covariance.count(olds[k])) {
-      // The new node seen from the old one: measured against where the graph has it.
-      const Eigen::Vector2d innovation =
-          outcomes[k].pose->inverse().translation() - graph_guesses[k].inverse().translation();
       const Eigen::Matrix2d S = offset_covariance.at(olds[k]) +
                                 Eigen::Matrix2d::Identity() / options_.closure_information_xy;
       const double chi2 = innovation.dot(S.inverse() * innovation);
