@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "testing/synthetic_scans.h"
@@ -18,6 +20,29 @@ Cloud CloudAt(const std::vector<Segment>& world, const Pose2& pose, double max_r
   laser.max_range_m = max_range_m;
   laser.range_noise_m = 0.005;
   return CloudFromScan(CastScan(world, {}, pose, laser, 11), Pose2(), CloudOptions{});
+}
+
+// A graph of nodes at `poses` joined by odometry edges (measured as the poses have it).
+PoseGraph OdometryGraph(const std::map<GraphNodeId, Pose2>& poses,
+                        const std::vector<std::pair<GraphNodeId, GraphNodeId>>& odometry,
+                        const Eigen::Vector3d& information) {
+  PoseGraph graph;
+  for (const auto& [id, pose] : poses) {
+    GraphNode node;
+    node.id = id;
+    node.pose = pose;
+    EXPECT_TRUE(graph.AddNode(node).ok());
+  }
+  for (const auto& [from, to] : odometry) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = poses.at(from).Between(poses.at(to));
+    edge.information = information.asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    EXPECT_TRUE(graph.AddEdge(edge).ok());
+  }
+  return graph;
 }
 
 TEST(LoopCloser, AlignsTwoLocalMapsOfOnePlaceFromADriftedGuess) {
@@ -96,23 +121,9 @@ TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {
   const auto room = test_support::IrregularRoom();
   const Pose2 old_pose(0.0, 0.0, 0.0), new_in_clouds(0.5, 0.3, 0.1);
   const Pose2 new_in_graph = Pose2(2.5, 0.0, 0.0) * new_in_clouds;
-  PoseGraph graph;
-  for (const auto& [id, pose] :
-       std::map<GraphNodeId, Pose2>{{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 12.0, 0.0)}}) {
-    GraphNode node;
-    node.id = id;
-    node.pose = pose;
-    ASSERT_TRUE(graph.AddNode(node).ok());
-  }
-  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 2}, {2, 1}}) {
-    GraphEdge edge;
-    edge.from = from;
-    edge.to = to;
-    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
-    edge.information = Eigen::Vector3d(3.0, 3.0, 1e4).asDiagonal();
-    edge.kind = EdgeKind::kOdometry;
-    ASSERT_TRUE(graph.AddEdge(edge).ok());
-  }
+  const PoseGraph graph =
+      OdometryGraph({{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 12.0, 0.0)}},
+                    {{0, 2}, {2, 1}}, Eigen::Vector3d(3.0, 3.0, 1e4));
   const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
                                                {1, CloudAt(room, new_in_clouds, 8)}};
   auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
@@ -139,23 +150,9 @@ TEST(LoopCloser, AnAlignmentFarFromAShortTrackerChainIsNotKept) {
   const auto room = test_support::IrregularRoom();
   const Pose2 old_pose(0.0, 0.0, 0.0), new_in_clouds(0.5, 0.3, 0.1);
   const Pose2 new_in_graph = Pose2(4.0, 0.0, 0.0) * new_in_clouds;
-  PoseGraph graph;
-  for (const auto& [id, pose] :
-       std::map<GraphNodeId, Pose2>{{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 3.0, 0.0)}}) {
-    GraphNode node;
-    node.id = id;
-    node.pose = pose;
-    ASSERT_TRUE(graph.AddNode(node).ok());
-  }
-  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 2}, {2, 1}}) {
-    GraphEdge edge;
-    edge.from = from;
-    edge.to = to;
-    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
-    edge.information = Eigen::Vector3d(0.5, 0.5, 1e4).asDiagonal();
-    edge.kind = EdgeKind::kOdometry;
-    ASSERT_TRUE(graph.AddEdge(edge).ok());
-  }
+  const PoseGraph graph =
+      OdometryGraph({{0, old_pose}, {1, new_in_graph}, {2, Pose2(1.0, 3.0, 0.0)}}, {{0, 2}, {2, 1}},
+                    Eigen::Vector3d(0.5, 0.5, 1e4));
   const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
                                                {1, CloudAt(room, new_in_clouds, 8)}};
   auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
@@ -188,24 +185,14 @@ TEST(LoopCloser, AWaitingLoopIsTriedFromTheNextNodeWhereItPutsIt) {
                                               {10, Pose2(0.5, 0.3, 0.1)},
                                               {11, Pose2(0.8, -0.4, -0.2)}};
   const Pose2 drift(30.0, 0.0, 0.5);
-  PoseGraph graph;
+  std::map<GraphNodeId, Pose2> in_graph;
   std::map<GraphNodeId, Cloud> clouds;
   for (const auto& [id, pose] : truth) {
-    GraphNode node;
-    node.id = id;
-    node.pose = id >= 10 ? drift * pose : pose;
-    ASSERT_TRUE(graph.AddNode(node).ok());
+    in_graph[id] = id >= 10 ? drift * pose : pose;
     clouds[id] = CloudAt(room, pose, 8);
   }
-  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 1}, {10, 11}}) {
-    GraphEdge edge;
-    edge.from = from;
-    edge.to = to;
-    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
-    edge.information = Eigen::Vector3d(100.0, 100.0, 1e3).asDiagonal();
-    edge.kind = EdgeKind::kOdometry;
-    ASSERT_TRUE(graph.AddEdge(edge).ok());
-  }
+  const PoseGraph graph =
+      OdometryGraph(in_graph, {{0, 1}, {10, 11}}, Eigen::Vector3d(100.0, 100.0, 1e3));
   auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
   for (const bool predict : {false, true}) {
     LoopClosingOptions options;
