@@ -137,6 +137,7 @@ StatusOr<MapComparison> CompareMaps(const OccupancyGrid& map, const OccupancyGri
       uint8_t r = observed ? 255 : 205, g = r, b = r;
       if (map_occ[i]) {
         ++result.map_occupied;
+        if (truth_occ[i]) ++result.on_truth;
         if (truth_near[i]) {
           ++result.correct;
           r = 0, g = 170, b = 0;
@@ -164,6 +165,7 @@ StatusOr<MapComparison> CompareMaps(const OccupancyGrid& map, const OccupancyGri
     }
   }
   result.precision = Ratio(result.correct, result.map_occupied);
+  result.precision_on_truth = Ratio(result.on_truth, result.map_occupied);
   result.recall = Ratio(result.recalled, result.truth_observed);
   result.phantom_fraction = Ratio(result.phantom, result.map_occupied);
   return result;

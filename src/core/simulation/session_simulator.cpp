@@ -4,12 +4,26 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 namespace longterm_mapper2d {
 namespace {
 
 // People keep at least this far from the robot's centre (plus their own radius).
 constexpr double kRobotRadiusM = 0.45;
+
+// The cells along one axis whose closed extent holds coordinate `v_m`: one cell, or the two
+// either side when `v_m` lies on the line between them. A wall on a grid line (the worlds put
+// walls at round coordinates) is the surface of both cells: a laser sees it from either side and
+// its returns, with range noise, fall into both. Marking only the cell that floor() picks (which
+// flips with the last bit of rounding) put half a cell of bias into the truth.
+std::pair<int, int> CellsTouching(double v_m, double origin_m, double resolution_m) {
+  const double f = (v_m - origin_m) / resolution_m;
+  const double line = std::round(f);
+  if (std::abs(f - line) < 1e-6) return {static_cast<int>(line) - 1, static_cast<int>(line)};
+  const int cell = static_cast<int>(std::floor(f));
+  return {cell, cell};
+}
 
 }  // namespace
 
@@ -159,8 +173,13 @@ OccupancyGrid RasterizeWorld(const World& world, int session, double resolution_
     const int samples = std::max(2, static_cast<int>(std::ceil(length / (0.25 * resolution_m))));
     for (int k = 0; k <= samples; ++k) {
       const Eigen::Vector2d p = s.a_m + (s.b_m - s.a_m) * (static_cast<double>(k) / samples);
-      const Eigen::Vector2i cell = grid.WorldToCell(p);
-      if (grid.InBounds(cell.x(), cell.y())) grid.at(cell.x(), cell.y()) = 100;
+      const auto [x_lo, x_hi] = CellsTouching(p.x(), lo.x(), resolution_m);
+      const auto [y_lo, y_hi] = CellsTouching(p.y(), lo.y(), resolution_m);
+      for (int iy = y_lo; iy <= y_hi; ++iy) {
+        for (int ix = x_lo; ix <= x_hi; ++ix) {
+          if (grid.InBounds(ix, iy)) grid.at(ix, iy) = 100;
+        }
+      }
     }
   }
   return grid;

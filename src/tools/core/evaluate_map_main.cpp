@@ -77,15 +77,19 @@ int main(int argc, char** argv) {
     std::printf(
         "{\"precision\": %.9g, \"recall\": %.9g, \"phantom_cells\": %lld, "
         "\"phantom_fraction\": %.9g, \"map_occupied\": %lld, \"correct\": %lld, "
+        "\"on_truth\": %lld, \"precision_on_truth\": %.9g, "
         "\"truth_occupied\": %lld, \"truth_observed\": %lld, \"recalled\": %lld}\n",
         r.precision, r.recall, static_cast<long long>(r.phantom), r.phantom_fraction,
         static_cast<long long>(r.map_occupied), static_cast<long long>(r.correct),
+        static_cast<long long>(r.on_truth), r.precision_on_truth,
         static_cast<long long>(r.truth_occupied), static_cast<long long>(r.truth_observed),
         static_cast<long long>(r.recalled));
   } else {
     std::printf("occupied map cells:       %lld (%lld within one cell of the truth)\n",
                 static_cast<long long>(r.map_occupied), static_cast<long long>(r.correct));
     std::printf("precision:                %.4f\n", r.precision);
+    std::printf("on a true cell itself:    %lld (%.4f of the occupied map cells)\n",
+                static_cast<long long>(r.on_truth), r.precision_on_truth);
     std::printf("true occupied cells:      %lld (%lld observed by the map, %lld recalled)\n",
                 static_cast<long long>(r.truth_occupied), static_cast<long long>(r.truth_observed),
                 static_cast<long long>(r.recalled));

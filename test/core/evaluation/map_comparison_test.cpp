@@ -46,8 +46,10 @@ TEST(CompareMaps, HandMadeGridsGiveHandCountedFigures) {
   ASSERT_TRUE(result.ok()) << result.status().message();
   EXPECT_EQ(result->map_occupied, 5);
   EXPECT_EQ(result->correct, 2);
+  EXPECT_EQ(result->on_truth, 1);  // (5, 2)
   EXPECT_EQ(result->phantom, 2);
   EXPECT_DOUBLE_EQ(result->precision, 0.4);
+  EXPECT_DOUBLE_EQ(result->precision_on_truth, 0.2);
   EXPECT_DOUBLE_EQ(result->phantom_fraction, 0.4);
   EXPECT_EQ(result->truth_occupied, 10);
   EXPECT_EQ(result->truth_observed, 5);  // (5, 0..4)

@@ -149,5 +149,34 @@ TEST(SessionSimulator, TruthRasterMarksWallsOccupied) {
   EXPECT_EQ(session1.at(crate1.x(), crate1.y()), 0);
 }
 
+TEST(SessionSimulator, TruthRasterPutsAWallOnAGridLineIntoTheCellsOnBothSides) {
+  // Walls at y = 0 and y = 4 lie on grid lines of a 0.05 m grid; the wall at y = 2.02 and the
+  // crate's sides inside cells. Returns from either side of a wall on a grid line land on both
+  // sides of it, so both cells are the wall.
+  auto world = ParseWorld(kRoom);
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  world->walls.push_back({Eigen::Vector2d(0.0, 2.02), Eigen::Vector2d(1.0, 2.02)});
+  const OccupancyGrid grid = RasterizeWorld(*world, 1, 0.05);
+  auto occupied_rows = [&](double x_m, double y_lo_m, double y_hi_m) {
+    std::vector<double> rows;
+    for (double y = y_lo_m; y < y_hi_m; y += 0.05) {
+      const Eigen::Vector2i c = grid.WorldToCell(Eigen::Vector2d(x_m, y));
+      if (grid.at(c.x(), c.y()) == 100) rows.push_back(grid.CellCenter(c.x(), c.y()).y());
+    }
+    return rows;
+  };
+  const auto on_line = occupied_rows(2.51, -0.2126, 0.2);
+  ASSERT_EQ(on_line.size(), 2u);
+  EXPECT_NEAR(on_line[0], -0.025, 1e-9);
+  EXPECT_NEAR(on_line[1], 0.025, 1e-9);
+  const auto top = occupied_rows(2.51, 3.7874, 4.2);
+  ASSERT_EQ(top.size(), 2u);
+  EXPECT_NEAR(top[0], 3.975, 1e-9);
+  EXPECT_NEAR(top[1], 4.025, 1e-9);
+  const auto inside = occupied_rows(0.51, 1.7874, 2.2);
+  ASSERT_EQ(inside.size(), 1u);
+  EXPECT_NEAR(inside[0], 2.025, 1e-9);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -43,11 +43,13 @@ struct MapComparisonOptions {
 struct MapComparison {
   int64_t map_occupied = 0;       // occupied map cells (after resampling)
   int64_t correct = 0;            // ... within match_radius_cells of a true occupied cell
+  int64_t on_truth = 0;           // ... on a true occupied cell itself (radius 0)
   int64_t phantom = 0;            // ... farther than phantom_radius_cells from all of them
   int64_t truth_occupied = 0;     // true occupied cells
   int64_t truth_observed = 0;     // ... that the map observed (not unknown there)
   int64_t recalled = 0;           // ... observed and within match_radius_cells of a map hit
   double precision = 0.0;         // correct / map_occupied
+  double precision_on_truth = 0.0;  // on_truth / map_occupied: the strict figure, no tolerance
   double recall = 0.0;            // recalled / truth_observed
   double phantom_fraction = 0.0;  // phantom / map_occupied
 };

@@ -71,8 +71,9 @@ class SessionSimulator {
   std::uint64_t seed_;
 };
 
-// The static and semi-static world of a session as a grid: cells crossed by a segment are
-// occupied (100), all others inside the world's bounds free (0).
+// The static and semi-static world of a session as a grid: cells a segment touches are occupied
+// (100; a segment on a grid line touches the cells on both sides), all others inside the world's
+// bounds free (0).
 OccupancyGrid RasterizeWorld(const World& world, int session, double resolution_m);
 
 }  // namespace longterm_mapper2d
