@@ -9,6 +9,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <queue>
@@ -23,25 +24,24 @@ using longterm_mapper2d::ScanInput;
 using longterm_mapper2d::Status;
 using longterm_mapper2d::StatusOr;
 
-namespace {
-
-struct OpenBags {
+struct OpenedBags {
   std::vector<std::unique_ptr<rosbag::Bag>> bags;
   ros::Time begin = ros::TIME_MAX;
   ros::Time end = ros::TIME_MIN;
 };
 
-StatusOr<std::shared_ptr<OpenBags>> OpenAll(const std::vector<std::string>& paths) {
-  auto open = std::make_shared<OpenBags>();
+namespace {
+
+StatusOr<std::shared_ptr<OpenedBags>> OpenAll(const std::vector<std::string>& paths) {
+  auto open = std::make_shared<OpenedBags>();
   for (const auto& path : paths) {
     auto bag = std::make_unique<rosbag::Bag>();
     try {
       bag->open(path, rosbag::bagmode::Read);
+      // An empty view begins at TIME_MAX and ends at TIME_MIN (size() would walk the whole index).
       rosbag::View everything(*bag);
-      if (everything.size() > 0) {
-        open->begin = std::min(open->begin, everything.getBeginTime());
-        open->end = std::max(open->end, everything.getEndTime());
-      }
+      open->begin = std::min(open->begin, everything.getBeginTime());
+      open->end = std::max(open->end, everything.getEndTime());
     } catch (const std::exception& e) {
       return Status::Error("cannot read bag '" + path + "': " + e.what());
     }
@@ -64,34 +64,71 @@ StatusOr<std::unique_ptr<BagScanSource>> BagScanSource::Open(
 Status BagScanSource::LoadOdometry() {
   auto opened = OpenAll(bag_paths_);
   if (!opened.ok()) return opened.status();
-  OpenBags& bags = **opened;
-  const double bag_begin_s = bags.begin.toSec();
+  bags_ = *opened;
+  const double bag_begin_s = bags_->begin.toSec();
   window_begin_s_ = bag_begin_s + std::max(0.0, options_.start_s);
   window_end_s_ = options_.end_s < 0.0 ? std::numeric_limits<double>::infinity()
                                        : bag_begin_s + options_.end_s;
+  // A window of a long recording reads the recording's /tf, odometry and scans only around the
+  // window (a ten-hour bag mapped an hour at a time would otherwise read all ten hours each time).
+  // If that leaves the odometry or a laser mount unresolved (a mount sent once on /tf, long
+  // before the window), the whole recording is read after all.
+  const TimeSpan window = ReadTimeSpan();
+  if (!window.whole && LoadTransforms(window).ok() && !laser_offsets_.empty() &&
+      stats_.laser_offset_found) {
+    return Status::Ok();
+  }
+  return LoadTransforms(TimeSpan{});
+}
 
-  // All transforms go into one tf2 buffer that covers the whole recording, so that chains
+BagScanSource::TimeSpan BagScanSource::ReadTimeSpan() const {
+  const bool whole = options_.start_s <= 0.0 && options_.end_s < 0.0;
+  if (whole) return TimeSpan{};
+  TimeSpan span;
+  span.whole = false;
+  const double latest_s = ros::TIME_MAX.toSec();
+  span.begin = ros::Time(std::clamp(window_begin_s_ - kWindowMarginS, 0.0, latest_s));
+  span.end = window_end_s_ + kWindowMarginS < latest_s ? ros::Time(window_end_s_ + kWindowMarginS)
+                                                       : ros::TIME_MAX;
+  return span;
+}
+
+Status BagScanSource::LoadTransforms(const TimeSpan& span) {
+  odometry_ = longterm_mapper2d::OdometryBuffer();
+  laser_offsets_.clear();
+  warnings_.clear();
+  stats_ = BagReadStats();
+
+  // All transforms go into one tf2 buffer that covers the span read, so that chains
   // (odom -> base_footprint -> base_link) and the static laser mount resolve as a node would.
-  const double duration_s = (bags.end - bags.begin).toSec();
+  const ros::Time first = span.whole ? bags_->begin : std::max(span.begin, bags_->begin);
+  const ros::Time last = span.whole ? bags_->end : std::min(span.end, bags_->end);
+  const double duration_s = std::max(0.0, (last - first).toSec());
   auto buffer = std::make_shared<tf2::BufferCore>(ros::Duration(duration_s + 60.0));
   std::vector<double> chain_stamps;
   std::set<std::string> laser_frames;
   std::map<std::string, double> last_stamp_by_child;
   try {
     rosbag::View view;
-    for (auto& bag : bags.bags) {
-      view.addQuery(*bag, rosbag::TopicQuery(std::vector<std::string>{
-                              "/tf", "/tf_static", options_.odom_topic, options_.scan_topic}));
+    for (auto& bag : bags_->bags) {
+      const std::vector<std::string> topics{"/tf", options_.odom_topic, options_.scan_topic};
+      if (span.whole) {
+        view.addQuery(*bag, rosbag::TopicQuery(topics));
+      } else {
+        view.addQuery(*bag, rosbag::TopicQuery(topics), span.begin, span.end);
+      }
+      // Static transforms are latched at the start of a recording: always read them all.
+      view.addQuery(*bag, rosbag::TopicQuery("/tf_static"));
     }
     for (const rosbag::MessageInstance& message : view) {
       if (auto tf = message.instantiate<tf2_msgs::TFMessage>()) {
         const bool is_static = message.getTopic() == "/tf_static";
         for (const auto& transform : tf->transforms) {
           // tf2 warns on every repeated stamp; a recording may repeat one, keep the first.
-          double& last = last_stamp_by_child[transform.child_frame_id];
+          double& last_stamp = last_stamp_by_child[transform.child_frame_id];
           const double stamp = transform.header.stamp.toSec();
-          if (!is_static && stamp == last) continue;
-          last = stamp;
+          if (!is_static && stamp == last_stamp) continue;
+          last_stamp = stamp;
           buffer->setTransform(transform, "bag", is_static);
           if (!is_static) chain_stamps.push_back(transform.header.stamp.toSec());
         }
@@ -106,9 +143,11 @@ Status BagScanSource::LoadOdometry() {
           }
         }
       } else if (auto scan = message.instantiate<sensor_msgs::LaserScan>()) {
-        laser_frames.insert(scan->header.frame_id);
         const double stamp = scan->header.stamp.toSec();
-        if (stamp >= window_begin_s_ && stamp < window_end_s_) ++stats_.scans_in_window;
+        if (stamp >= window_begin_s_ && stamp < window_end_s_) {
+          laser_frames.insert(scan->header.frame_id);
+          ++stats_.scans_in_window;
+        }
       }
     }
   } catch (const std::exception& e) {
@@ -156,9 +195,8 @@ Status BagScanSource::LoadOdometry() {
 }
 
 Status BagScanSource::ForEach(const std::function<void(const ScanInput&)>& visit) {
-  auto opened = OpenAll(bag_paths_);
-  if (!opened.ok()) return opened.status();
-  OpenBags& bags = **opened;
+  if (bags_ == nullptr) return Status::Error("the bags are not open");
+  const TimeSpan span = ReadTimeSpan();
 
   // Scans are re-ordered by header stamp within a bounded window (bags are ordered by receive
   // time, which can differ from the stamp).
@@ -177,8 +215,12 @@ Status BagScanSource::ForEach(const std::function<void(const ScanInput&)>& visit
 
   try {
     rosbag::View view;
-    for (auto& bag : bags.bags) {
-      view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic));
+    for (auto& bag : bags_->bags) {
+      if (span.whole) {
+        view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic));
+      } else {
+        view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic), span.begin, span.end);
+      }
     }
     for (const rosbag::MessageInstance& message : view) {
       auto msg = message.instantiate<sensor_msgs::LaserScan>();

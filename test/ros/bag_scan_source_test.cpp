@@ -116,6 +116,55 @@ TEST(BagScanSource, TakesOdometryFromAnOdometryTopicAndHonoursTheTimeWindow) {
   std::remove(path.c_str());
 }
 
+// 200 s of odometry on /tf at 10 Hz and a scan every second; the laser mount either on
+// /tf_static or sent once on /tf at the start.
+std::string WriteLongBag(const char* name, bool mount_on_tf_static) {
+  const std::string path = TempBag(name);
+  rosbag::Bag bag(path, rosbag::bagmode::Write);
+  tf2_msgs::TFMessage mount;
+  mount.transforms.push_back(Transform(Pose2(0.22, 0.0, 0.0), 1000.0, "base_link", "laser"));
+  bag.write(mount_on_tf_static ? "/tf_static" : "/tf", ros::Time(1000.0), mount);
+  for (int i = 1; i <= 2000; ++i) {
+    const double t = 1000.0 + 0.1 * i;
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(Transform(Pose2(0.01 * i, 0.0, 0.0), t, "odom", "base_link"));
+    bag.write("/tf", ros::Time(t), tf);
+    if (i % 10 == 5) bag.write("/scan", ros::Time(t), Scan(t, "laser"));
+  }
+  bag.close();
+  return path;
+}
+
+TEST(BagScanSource, AWindowOfALongRecordingReadsAroundTheWindowAndFindsAMountSentBefore) {
+  for (const bool mount_on_tf_static : {true, false}) {
+    SCOPED_TRACE(mount_on_tf_static ? "mount on /tf_static" : "mount once on /tf");
+    const std::string path = WriteLongBag("long", mount_on_tf_static);
+    BagReaderOptions options;
+    options.start_s = 150.0;
+    options.end_s = 170.0;
+    auto source = BagScanSource::Open({path}, options);
+    ASSERT_TRUE(source.ok()) << source.status().message();
+    EXPECT_TRUE((*source)->stats().laser_offset_found);
+    EXPECT_EQ((*source)->scan_count(), 20u);
+    std::vector<ScanInput> scans;
+    ASSERT_TRUE((*source)->ForEach([&](const ScanInput& s) { scans.push_back(s); }).ok());
+    ASSERT_EQ(scans.size(), 20u);
+    EXPECT_NEAR(scans.front().scan.stamp_s, 1150.5, 1e-6);
+    for (const ScanInput& s : scans) {
+      EXPECT_NEAR(s.odom_T_base.x(), 0.1 * (s.scan.stamp_s - 1000.0), 1e-6);
+      EXPECT_NEAR(s.base_T_laser.x(), 0.22, 1e-9);
+    }
+    // With the mount on /tf_static only the window and 30 s either side are read (80 s of the
+    // 200); a mount sent once on /tf before the window takes a read of the whole recording.
+    if (mount_on_tf_static) {
+      EXPECT_LE((*source)->stats().odometry_samples, 801u);
+    } else {
+      EXPECT_EQ((*source)->stats().odometry_samples, 2000u);
+    }
+    std::remove(path.c_str());
+  }
+}
+
 TEST(BagScanSource, ClearErrorsForMissingFilesAndMissingOdometry) {
   BagReaderOptions options;
   auto missing = BagScanSource::Open({"/nonexistent/file.bag"}, options);

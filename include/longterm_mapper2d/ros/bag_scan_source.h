@@ -6,11 +6,15 @@
 #include <string>
 #include <vector>
 
+#include <ros/time.h>
+
 #include "longterm_mapper2d/core/common/status.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
 #include "longterm_mapper2d/core/sensor/odometry_buffer.h"
 
 namespace longterm_mapper2d_ros {
+
+struct OpenedBags;
 
 struct BagReaderOptions {
   std::string scan_topic = "/scan";
@@ -62,10 +66,23 @@ class BagScanSource {
  private:
   BagScanSource(std::vector<std::string> bag_paths, BagReaderOptions options)
       : bag_paths_(std::move(bag_paths)), options_(std::move(options)) {}
+  // The part of the recording (receive times) the passes read: all of it, or the window with a
+  // margin, since header stamps and receive times differ a little.
+  struct TimeSpan {
+    bool whole = true;
+    ros::Time begin;
+    ros::Time end;
+  };
+  static constexpr double kWindowMarginS = 30.0;
+
   longterm_mapper2d::Status LoadOdometry();
+  TimeSpan ReadTimeSpan() const;
+  // The first pass over `span`: odometry, laser mounts, scans in the window.
+  longterm_mapper2d::Status LoadTransforms(const TimeSpan& span);
 
   std::vector<std::string> bag_paths_;
   BagReaderOptions options_;
+  std::shared_ptr<OpenedBags> bags_;  // opened once, read by both passes
   longterm_mapper2d::OdometryBuffer odometry_;
   // base_T_laser per laser frame id.
   std::vector<std::pair<std::string, longterm_mapper2d::Pose2>> laser_offsets_;
