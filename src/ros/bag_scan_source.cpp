@@ -67,8 +67,8 @@ Status BagScanSource::LoadOdometry() {
   bags_ = *opened;
   const double bag_begin_s = bags_->begin.toSec();
   window_begin_s_ = bag_begin_s + std::max(0.0, options_.start_s);
-  window_end_s_ = options_.end_s < 0.0 ? std::numeric_limits<double>::infinity()
-                                       : bag_begin_s + options_.end_s;
+  window_end_s_ =
+      options_.end_s < 0.0 ? std::numeric_limits<double>::infinity() : bag_begin_s + options_.end_s;
   // A window of a long recording reads the recording's /tf, odometry and scans only around the
   // window (a ten-hour bag mapped an hour at a time would otherwise read all ten hours each time).
   // If that leaves the odometry or a laser mount unresolved (a mount sent once on /tf, long
@@ -160,8 +160,8 @@ Status BagScanSource::LoadTransforms(const TimeSpan& span) {
     chain_stamps.erase(std::unique(chain_stamps.begin(), chain_stamps.end()), chain_stamps.end());
     for (double stamp : chain_stamps) {
       try {
-        const auto t = buffer->lookupTransform(options_.odom_frame, options_.base_frame,
-                                               ros::Time(stamp));
+        const auto t =
+            buffer->lookupTransform(options_.odom_frame, options_.base_frame, ros::Time(stamp));
         if (odometry_.Add(stamp, FromRosTransform(t.transform)).ok()) ++stats_.odometry_samples;
       } catch (const tf2::TransformException&) {
         // This stamp belongs to a transform outside the odom -> base chain.

@@ -16,8 +16,8 @@ namespace {
 using longterm_mapper2d::Pose2;
 using longterm_mapper2d::ScanInput;
 
-geometry_msgs::TransformStamped Transform(const Pose2& pose, double stamp, const std::string& parent,
-                                          const std::string& child) {
+geometry_msgs::TransformStamped Transform(const Pose2& pose, double stamp,
+                                          const std::string& parent, const std::string& child) {
   geometry_msgs::TransformStamped t;
   t.header.stamp = ros::Time(stamp);
   t.header.frame_id = parent;
@@ -59,7 +59,8 @@ std::string WriteTfBag() {
     bag.write("/tf", ros::Time(t), tf);
   }
   // Scans at 100.25, 100.15 (late), 100.55, and one after the odometry ends (103.0).
-  for (double t : {100.25, 100.15, 100.55, 103.0}) bag.write("/scan", ros::Time(t + 0.02), Scan(t, "laser"));
+  for (double t : {100.25, 100.15, 100.55, 103.0})
+    bag.write("/scan", ros::Time(t + 0.02), Scan(t, "laser"));
   bag.close();
   return path;
 }
@@ -105,10 +106,12 @@ TEST(BagScanSource, TakesOdometryFromAnOdometryTopicAndHonoursTheTimeWindow) {
   auto source = BagScanSource::Open({path}, options);
   ASSERT_TRUE(source.ok()) << source.status().message();
   std::vector<double> stamps;
-  ASSERT_TRUE((*source)->ForEach([&](const ScanInput& s) {
-    stamps.push_back(s.scan.stamp_s);
-    EXPECT_NEAR(s.odom_T_base.x(), 10.0 * (s.scan.stamp_s - 50.0), 1e-6);
-  }).ok());
+  ASSERT_TRUE((*source)
+                  ->ForEach([&](const ScanInput& s) {
+                    stamps.push_back(s.scan.stamp_s);
+                    EXPECT_NEAR(s.odom_T_base.x(), 10.0 * (s.scan.stamp_s - 50.0), 1e-6);
+                  })
+                  .ok());
   // Scans every 0.5 s from 50.0: the window [50.9, 52.6) holds 51.0, 51.5, 52.0 and 52.5.
   ASSERT_EQ(stamps.size(), 4u);
   EXPECT_DOUBLE_EQ(stamps.front(), 51.0);

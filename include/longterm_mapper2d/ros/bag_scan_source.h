@@ -1,12 +1,12 @@
 #pragma once
 
+#include <ros/time.h>
+
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <ros/time.h>
 
 #include "longterm_mapper2d/core/common/status.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"

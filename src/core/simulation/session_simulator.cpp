@@ -135,14 +135,15 @@ std::vector<SimulatedStep> SessionSimulator::Run() {
     scan.frame_id = "laser";
     scan.angle_min_rad = -options_.fov_rad / 2.0;
     scan.angle_increment_rad = options_.fov_rad / (options_.beams - 1);
-    if (options_.fov_rad >= 2.0 * M_PI - 1e-9) scan.angle_increment_rad = options_.fov_rad / options_.beams;
+    if (options_.fov_rad >= 2.0 * M_PI - 1e-9)
+      scan.angle_increment_rad = options_.fov_rad / options_.beams;
     scan.range_min_m = 0.05;
     scan.range_max_m = options_.max_range_m;
     scan.ranges.resize(options_.beams);
     for (int i = 0; i < options_.beams; ++i) {
       const double angle = map_T_laser.theta() + scan.BeamAngle(i);
-      double range = CastRay(segments, circles, map_T_laser.translation(), angle,
-                             options_.max_range_m);
+      double range =
+          CastRay(segments, circles, map_T_laser.translation(), angle, options_.max_range_m);
       if (std::isfinite(range)) {
         range += options_.range_noise_m * unit(laser_rng);
         if (range >= options_.max_range_m) range = std::numeric_limits<double>::infinity();

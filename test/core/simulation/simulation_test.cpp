@@ -82,7 +82,8 @@ TEST(World, TheCareHomeIsAFloorWithPeopleAndFurnitureThatMoves) {
     return values;
   };
   for (int session = 1; session < 3; ++session) {
-    EXPECT_NE(signature(session), signature(session + 1)) << "sessions " << session << ", " << session + 1;
+    EXPECT_NE(signature(session), signature(session + 1))
+        << "sessions " << session << ", " << session + 1;
   }
 }
 

@@ -41,17 +41,17 @@ struct MapComparisonOptions {
 // Occupied-cell agreement of a map with a ground-truth grid of the same (map) frame. Counts are
 // cells of the truth's lattice; ratios with an empty denominator are 0.
 struct MapComparison {
-  int64_t map_occupied = 0;       // occupied map cells (after resampling)
-  int64_t correct = 0;            // ... within match_radius_cells of a true occupied cell
-  int64_t on_truth = 0;           // ... on a true occupied cell itself (radius 0)
-  int64_t phantom = 0;            // ... farther than phantom_radius_cells from all of them
-  int64_t truth_occupied = 0;     // true occupied cells
-  int64_t truth_observed = 0;     // ... that the map observed (not unknown there)
-  int64_t recalled = 0;           // ... observed and within match_radius_cells of a map hit
-  double precision = 0.0;         // correct / map_occupied
+  int64_t map_occupied = 0;         // occupied map cells (after resampling)
+  int64_t correct = 0;              // ... within match_radius_cells of a true occupied cell
+  int64_t on_truth = 0;             // ... on a true occupied cell itself (radius 0)
+  int64_t phantom = 0;              // ... farther than phantom_radius_cells from all of them
+  int64_t truth_occupied = 0;       // true occupied cells
+  int64_t truth_observed = 0;       // ... that the map observed (not unknown there)
+  int64_t recalled = 0;             // ... observed and within match_radius_cells of a map hit
+  double precision = 0.0;           // correct / map_occupied
   double precision_on_truth = 0.0;  // on_truth / map_occupied: the strict figure, no tolerance
-  double recall = 0.0;            // recalled / truth_observed
-  double phantom_fraction = 0.0;  // phantom / map_occupied
+  double recall = 0.0;              // recalled / truth_observed
+  double phantom_fraction = 0.0;    // phantom / map_occupied
 };
 
 // Resamples `source` onto the lattice of `frame` (its resolution, origin and size). Each target
