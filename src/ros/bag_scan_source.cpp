@@ -74,7 +74,7 @@ Status BagScanSource::LoadOdometry() {
   // If that leaves the odometry or a laser mount unresolved (a mount sent once on /tf, long
   // before the window), the whole recording is read after all.
   const TimeSpan window = ReadTimeSpan();
-  if (!window.whole && LoadTransforms(window).ok() && !laser_offsets_.empty() &&
+  if (!window.whole() && LoadTransforms(window).ok() && !laser_offsets_.empty() &&
       stats_.laser_offset_found) {
     return Status::Ok();
   }
@@ -82,10 +82,8 @@ Status BagScanSource::LoadOdometry() {
 }
 
 BagScanSource::TimeSpan BagScanSource::ReadTimeSpan() const {
-  const bool whole = options_.start_s <= 0.0 && options_.end_s < 0.0;
-  if (whole) return TimeSpan{};
   TimeSpan span;
-  span.whole = false;
+  if (options_.start_s <= 0.0 && options_.end_s < 0.0) return span;
   const double latest_s = ros::TIME_MAX.toSec();
   span.begin = ros::Time(std::clamp(window_begin_s_ - kWindowMarginS, 0.0, latest_s));
   span.end = window_end_s_ + kWindowMarginS < latest_s ? ros::Time(window_end_s_ + kWindowMarginS)
@@ -101,8 +99,8 @@ Status BagScanSource::LoadTransforms(const TimeSpan& span) {
 
   // All transforms go into one tf2 buffer that covers the span read, so that chains
   // (odom -> base_footprint -> base_link) and the static laser mount resolve as a node would.
-  const ros::Time first = span.whole ? bags_->begin : std::max(span.begin, bags_->begin);
-  const ros::Time last = span.whole ? bags_->end : std::min(span.end, bags_->end);
+  const ros::Time first = std::max(span.begin, bags_->begin);
+  const ros::Time last = std::min(span.end, bags_->end);
   const double duration_s = std::max(0.0, (last - first).toSec());
   auto buffer = std::make_shared<tf2::BufferCore>(ros::Duration(duration_s + 60.0));
   std::vector<double> chain_stamps;
@@ -112,11 +110,7 @@ Status BagScanSource::LoadTransforms(const TimeSpan& span) {
     rosbag::View view;
     for (auto& bag : bags_->bags) {
       const std::vector<std::string> topics{"/tf", options_.odom_topic, options_.scan_topic};
-      if (span.whole) {
-        view.addQuery(*bag, rosbag::TopicQuery(topics));
-      } else {
-        view.addQuery(*bag, rosbag::TopicQuery(topics), span.begin, span.end);
-      }
+      view.addQuery(*bag, rosbag::TopicQuery(topics), span.begin, span.end);
       // Static transforms are latched at the start of a recording: always read them all.
       view.addQuery(*bag, rosbag::TopicQuery("/tf_static"));
     }
@@ -216,11 +210,7 @@ Status BagScanSource::ForEach(const std::function<void(const ScanInput&)>& visit
   try {
     rosbag::View view;
     for (auto& bag : bags_->bags) {
-      if (span.whole) {
-        view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic));
-      } else {
-        view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic), span.begin, span.end);
-      }
+      view.addQuery(*bag, rosbag::TopicQuery(options_.scan_topic), span.begin, span.end);
     }
     for (const rosbag::MessageInstance& message : view) {
       auto msg = message.instantiate<sensor_msgs::LaserScan>();

@@ -69,9 +69,9 @@ class BagScanSource {
   // The part of the recording (receive times) the passes read: all of it, or the window with a
   // margin, since header stamps and receive times differ a little.
   struct TimeSpan {
-    bool whole = true;
-    ros::Time begin;
-    ros::Time end;
+    ros::Time begin = ros::TIME_MIN;
+    ros::Time end = ros::TIME_MAX;
+    bool whole() const { return begin == ros::TIME_MIN && end == ros::TIME_MAX; }
   };
   static constexpr double kWindowMarginS = 30.0;
 
