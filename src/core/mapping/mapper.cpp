@@ -69,6 +69,16 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   if (has_last_processed_ &&
       odometry_step.translation().norm() < options_.tracker.min_translation_m &&
       std::abs(odometry_step.theta()) < options_.tracker.min_rotation_rad) {
+    // A copy of the last processed scan (same stamp) keeps its pose: one time, one pose.
+    if (options_.tracker.locate_skipped_scans && input.scan.stamp_s > last_processed_stamp_s_) {
+      const std::optional<Pose2> located =
+          tracker_.Locate(input, last_tracker_T_base_, odometry_step, stats_);
+      if (located) {
+        ++stats_.scans_skipped["no_motion"];
+        Record(input.scan.stamp_s, *located, input.odom_T_base);
+        return ScanOutcome::kSkipped;
+      }
+    }
     return skip("no_motion");
   }
 

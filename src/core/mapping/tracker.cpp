@@ -114,51 +114,73 @@ void Tracker::MarkMovingPoints(const ScanInput& input, Cloud& base_points, Mappe
   }
 }
 
-TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
-                           const Pose2& odometry_step, MapperStats& stats) {
-  TrackResult result;
-  const Pose2 guess = previous_tracker_T_base * odometry_step;
-  const Eigen::Matrix3d odometry_covariance =
-      OdometryStepCovariance(odometry_step, options_.tracker);
-  result.tracker_T_base = guess;
-  result.step_covariance = odometry_covariance;
-  if (!options_.tracker.scan_matching) return result;
-
-  std::vector<int> beams;
-  Cloud base_points = MakeCloud(input, &beams, stats);
-  MarkMovingPoints(input, base_points, stats);
+RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_points,
+                                     const Pose2& guess, const Pose2& odometry_step,
+                                     bool retry_without_prior, MapperStats& stats) {
   std::optional<PosePrior> prior;
   if (options_.tracker.odometry_prior) {
     // The prior is on the body-frame step; the solver's error lives in the tracker frame
     // (left perturbation), so the information is carried over by the adjoint of guess^-1.
     const Eigen::Matrix3d ad = Adjoint(guess.inverse());
-    prior = PosePrior{guess, ad.transpose() * odometry_covariance.inverse() * ad};
+    prior = PosePrior{
+        guess,
+        ad.transpose() * OdometryStepCovariance(odometry_step, options_.tracker).inverse() * ad};
   }
-  RegistrationResult registration;
-  {
-    ScopedStageTimer timer(stats.stage_times, "registration");
-    const ProjectorGeometry geometry =
-        ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
-    const Cloud& targets = RegistrationTargets(guess * input.base_T_laser, geometry);
-    registration =
-        nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser, geometry, prior);
-    if (prior && !registration.validation.accepted) {
-      // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
-      // decide alone before giving up on the local map.
-      ++stats.counters["registrations_retried_without_prior"];
-      registration = nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser,
-                                           geometry, std::nullopt);
-      // The earlier scans were placed by the odometry that just failed.
-      if (registration.validation.accepted) motion_filter_.Clear();
-    }
-    if (&targets != &local_map_ && registration.solved) {
-      // Judged against everything the local map saw: areas seen once (just come into view)
-      // are not targets yet, but they are evidence that the scan fits.
-      registration.validation =
-          nicp_.Validate(local_map_, base_points, registration.reference_T_current,
-                         registration.reference_T_current * input.base_T_laser, geometry);
-    }
+  ScopedStageTimer timer(stats.stage_times, "registration");
+  const ProjectorGeometry geometry =
+      ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
+  const Cloud& targets = RegistrationTargets(guess * input.base_T_laser, geometry);
+  RegistrationResult registration =
+      nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser, geometry, prior);
+  if (retry_without_prior && prior && !registration.validation.accepted) {
+    // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
+    // decide alone before giving up on the local map.
+    ++stats.counters["registrations_retried_without_prior"];
+    registration = nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser, geometry,
+                                         std::nullopt);
+    // The earlier scans were placed by the odometry that just failed.
+    if (registration.validation.accepted) motion_filter_.Clear();
   }
+  if (&targets != &local_map_ && registration.solved) {
+    // Judged against everything the local map saw: areas seen once (just come into view)
+    // are not targets yet, but they are evidence that the scan fits.
+    registration.validation =
+        nicp_.Validate(local_map_, base_points, registration.reference_T_current,
+                       registration.reference_T_current * input.base_T_laser, geometry);
+  }
+  return registration;
+}
+
+std::optional<Pose2> Tracker::Locate(const ScanInput& input, const Pose2& previous_tracker_T_base,
+                                     const Pose2& odometry_step, MapperStats& stats) {
+  if (!initialized_ || !options_.tracker.scan_matching) return std::nullopt;
+  const Cloud base_points = MakeCloud(input, nullptr, stats);
+  // No retry without the prior: a step this short that odometry got badly wrong is better dead
+  // reckoned than matched alone (the next processed scan decides).
+  const RegistrationResult registration = Register(
+      input, base_points, previous_tracker_T_base * odometry_step, odometry_step, false, stats);
+  if (!registration.solved || !registration.validation.accepted ||
+      !registration.reference_T_current.IsFinite()) {
+    ++stats.counters["skipped_scans_not_located"];
+    return std::nullopt;
+  }
+  ++stats.counters["skipped_scans_located"];
+  return registration.reference_T_current;
+}
+
+TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
+                           const Pose2& odometry_step, MapperStats& stats) {
+  TrackResult result;
+  const Pose2 guess = previous_tracker_T_base * odometry_step;
+  result.tracker_T_base = guess;
+  result.step_covariance = OdometryStepCovariance(odometry_step, options_.tracker);
+  if (!options_.tracker.scan_matching) return result;
+
+  std::vector<int> beams;
+  Cloud base_points = MakeCloud(input, &beams, stats);
+  MarkMovingPoints(input, base_points, stats);
+  const RegistrationResult registration =
+      Register(input, base_points, guess, odometry_step, true, stats);
   if (!registration.solved || !registration.validation.accepted ||
       !registration.reference_T_current.IsFinite()) {
     ++stats.counters["tracker_failures"];

@@ -132,10 +132,52 @@ TEST(Mapper, SkipsScansWhileOdometryStandsStillButGivesThemPoses) {
   EXPECT_EQ(mapper.stats().scans_skipped.at("no_motion"), 20u);
   const auto trajectory = mapper.Trajectory();
   ASSERT_EQ(trajectory.size(), 40u);
+  // Each copy is located against the local map its original went into: the same place, within
+  // what fusing the original into the map moved its points (measured: at most 0.8 mm).
   for (std::size_t i = 0; i + 1 < trajectory.size(); i += 2) {
     EXPECT_LT((trajectory[i].pose.translation() - trajectory[i + 1].pose.translation()).norm(),
-              1e-9);
+              0.002);
   }
+  EXPECT_EQ(mapper.stats().counters.at("skipped_scans_located"), 20u);
+}
+
+// Error of the step between consecutive trajectory poses against the truth's, averaged (m + rad).
+double MeanStepError(const std::vector<StampedPose2>& trajectory, const std::vector<Pose2>& truth) {
+  double sum = 0.0;
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    const Pose2 error = truth[i - 1].Between(truth[i]).inverse() *
+                        trajectory[i - 1].pose.Between(trajectory[i].pose);
+    sum += error.translation().norm() + std::abs(NormalizeAngle(error.theta()));
+  }
+  return sum / (trajectory.size() - 1);
+}
+
+TEST(Mapper, ScansBetweenProcessedOnesAreLocatedAgainstTheLocalMap) {
+  // 4 cm per scan: two of every three scans move too little to be processed. Odometry slips 20 %
+  // and drifts 0.1 rad per metre, so dead reckoning from the last processed scan is visibly off.
+  const Drive drive = MakeDrive(240, 0.04, 6, 0.2, 0.1);
+  double step_error[2];
+  for (const bool locate : {false, true}) {
+    MapperOptions options;
+    options.tracker.locate_skipped_scans = locate;
+    Mapper mapper(options);
+    for (const auto& input : drive.inputs) mapper.AddScan(input);
+    mapper.Finish();
+    const auto skipped = mapper.stats().scans_skipped.at("no_motion");
+    EXPECT_GT(skipped, 120u);
+    const auto& counters = mapper.stats().counters;
+    if (locate) {
+      EXPECT_EQ(counters.at("skipped_scans_located"), skipped);
+    } else {
+      EXPECT_EQ(counters.count("skipped_scans_located"), 0u);
+    }
+    const auto trajectory = mapper.Trajectory();
+    ASSERT_EQ(trajectory.size(), drive.truth.size());
+    step_error[locate] = MeanStepError(trajectory, drive.truth);
+  }
+  // Measured: mean step error (m + rad) 0.0028 located, 0.0140 dead reckoned.
+  std::printf("mean step error: located %.4f, dead reckoned %.4f\n", step_error[1], step_error[0]);
+  EXPECT_LT(step_error[1], 0.5 * step_error[0]) << step_error[1] << " vs " << step_error[0];
 }
 
 TEST(Mapper, ScansWithDuplicateStampsAreSkippedAndChangeNothing) {

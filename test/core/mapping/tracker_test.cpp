@@ -147,5 +147,44 @@ TEST(Tracker, ASlowWalkerDoesNotDragTheMatchAlongACorridor) {
   }
 }
 
+TEST(Tracker, ALocatedScanTakesItsPoseFromTheLocalMapAndLeavesTheMapAsItWas) {
+  MapperOptions options;
+  Tracker tracker(options);
+  MapperStats stats;
+  SyntheticLaser laser;
+  laser.range_noise_m = 0.01;
+  const auto room = test_support::IrregularRoom();
+  const Pose2 start(1.0, 0.5, 0.2);
+  ScanInput first;
+  first.scan = CastScan(room, {}, start, laser, 1);
+  tracker.Reset(first, start, stats);
+  const Cloud map_before = tracker.local_map();
+
+  // The robot moved 5 cm and turned 0.03 rad; odometry says 8 cm and 0.06 rad.
+  const Pose2 truth = start * Pose2(0.05, 0.0, 0.03);
+  ScanInput input;
+  input.scan = CastScan(room, {}, truth, laser, 2);
+  input.scan.stamp_s = 0.1;
+  const std::optional<Pose2> located = tracker.Locate(input, start, Pose2(0.08, 0.0, 0.06), stats);
+  ASSERT_TRUE(located.has_value());
+  EXPECT_LT((located->translation() - truth.translation()).norm(), 0.01);
+  EXPECT_LT(std::abs(NormalizeAngle(located->theta() - truth.theta())), 0.005);
+  EXPECT_EQ(stats.counters["skipped_scans_located"], 1u);
+
+  // Nothing of the scan went into the local map.
+  ASSERT_EQ(tracker.local_map().size(), map_before.size());
+  for (std::size_t i = 0; i < map_before.size(); ++i) {
+    EXPECT_EQ(tracker.local_map()[i].point_m, map_before[i].point_m);
+    EXPECT_EQ(tracker.local_map()[i].observations, map_before[i].observations);
+  }
+
+  // A scan of somewhere else does not validate: no pose, and still nothing changed.
+  ScanInput elsewhere;
+  elsewhere.scan = CastScan(test_support::Corridor(), {}, Pose2(), laser, 3);
+  EXPECT_FALSE(tracker.Locate(elsewhere, start, Pose2(0.08, 0.0, 0.06), stats).has_value());
+  EXPECT_EQ(stats.counters["skipped_scans_not_located"], 1u);
+  EXPECT_EQ(tracker.local_map().size(), map_before.size());
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

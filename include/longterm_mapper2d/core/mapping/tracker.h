@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 
 #include "longterm_mapper2d/core/cloud/cloud_merger.h"
 #include "longterm_mapper2d/core/cloud/range_projector.h"
@@ -41,6 +42,12 @@ class Tracker {
   TrackResult Track(const ScanInput& input, const Pose2& previous_tracker_T_base,
                     const Pose2& odometry_step, MapperStats& stats);
 
+  // Registers a scan the mapper does not process (too little motion since the last processed one)
+  // against the local map, for its pose only: the local map, the motion filter and the last
+  // processed pose stay as they are. The pose if the registration is accepted, else nothing.
+  std::optional<Pose2> Locate(const ScanInput& input, const Pose2& previous_tracker_T_base,
+                              const Pose2& odometry_step, MapperStats& stats);
+
   // The local map, in the tracker frame.
   const Cloud& local_map() const { return local_map_; }
 
@@ -49,6 +56,11 @@ class Tracker {
   void MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
                          const std::vector<int>& beams, const Pose2& tracker_T_base,
                          MapperStats& stats);
+  // Registers base_points (the scan's cloud) against the local map from guess, with the odometry
+  // prior of the step if configured; the validation is against the whole local map.
+  RegistrationResult Register(const ScanInput& input, const Cloud& base_points, const Pose2& guess,
+                              const Pose2& odometry_step, bool retry_without_prior,
+                              MapperStats& stats);
   // Marks the scan points of things seen moving (MotionFilter) and keeps the scan as a reference.
   void MarkMovingPoints(const ScanInput& input, Cloud& base_points, MapperStats& stats);
   // The local map's points used as registration targets (TrackerOptions::min_target_observations)

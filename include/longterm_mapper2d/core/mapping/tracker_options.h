@@ -11,6 +11,12 @@ struct TrackerOptions {
   // A scan is processed once odometry moved this much since the last processed scan.
   double min_translation_m = 0.1;
   double min_rotation_rad = 0.1;
+  // The scans in between are still registered against the local map for their own pose (not
+  // merged into it, not moving the odometry chain); off, they are dead reckoned from the last
+  // processed scan. Their poses are the trajectory's and the published map -> odom between
+  // processed scans: with intel's odometry, dead reckoning over up to 0.1 m / 0.1 rad is what
+  // limited the trajectory's short-range accuracy.
+  bool locate_skipped_scans = true;
   // The local map keeps points within this range of the robot, clipped every clip_every_m.
   double local_map_range_m = 5.0;
   double clip_every_m = 2.0;
@@ -53,6 +59,7 @@ struct TrackerOptions {
     v("scan_matching", scan_matching);
     v("min_translation_m", min_translation_m);
     v("min_rotation_rad", min_rotation_rad);
+    v("locate_skipped_scans", locate_skipped_scans);
     v("local_map_range_m", local_map_range_m);
     v("clip_every_m", clip_every_m);
     v("node_translation_m", node_translation_m);
