@@ -70,7 +70,8 @@ void Mapper::MaybeLocalize(const Pose2& tracker_T_base) {
     if (d <= options.search_radius_m) nearest.emplace_back(d, id);
   }
   std::sort(nearest.begin(), nearest.end());
-  if (nearest.size() > static_cast<std::size_t>(options.max_nodes)) nearest.resize(options.max_nodes);
+  if (nearest.size() > static_cast<std::size_t>(options.max_nodes))
+    nearest.resize(options.max_nodes);
   // The tracker's local map seen from the robot.
   const Cloud current = Transform(tracker_T_base.inverse(), tracker_.local_map());
   for (const auto& [distance, id] : nearest) {

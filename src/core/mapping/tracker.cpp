@@ -49,6 +49,7 @@ void Tracker::Reset(const ScanInput& input, const Pose2& tracker_T_base, MapperS
   std::vector<int> beams;
   const Cloud base_points = MakeCloud(input, &beams, stats);
   local_map_ = Transform(tracker_T_base, base_points);
+  targets_are_local_map_ = true;  // the targets of the map before are gone with it
   motion_filter_.Remember(input);
   initialized_ = true;
   last_clip_position_ = tracker_T_base.translation();
@@ -116,7 +117,8 @@ void Tracker::MarkMovingPoints(const ScanInput& input, Cloud& base_points, Mappe
 
 RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_points,
                                      const Pose2& guess, const Pose2& odometry_step,
-                                     bool retry_without_prior, MapperStats& stats) {
+                                     RegistrationMode mode, MapperStats& stats) {
+  const bool locating = mode == RegistrationMode::kLocate;
   std::optional<PosePrior> prior;
   if (options_.tracker.odometry_prior) {
     // The prior is on the body-frame step; the solver's error lives in the tracker frame
@@ -129,10 +131,18 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
   ScopedStageTimer timer(stats.stage_times, "registration");
   const ProjectorGeometry geometry =
       ProjectorGeometry::FromScan(input.scan, options_.cloud.max_range_m);
-  const Cloud& targets = RegistrationTargets(guess * input.base_T_laser, geometry);
-  RegistrationResult registration =
-      nicp_.AlignProjective(targets, base_points, guess, input.base_T_laser, geometry, prior);
-  if (retry_without_prior && prior && !registration.validation.accepted) {
+  // A located scan is matched against the targets of the last processed scan: the local map has
+  // not changed since (only that scan's own points are missing), and choosing targets again
+  // would project the whole local map once more.
+  const Cloud& targets = locating ? (targets_are_local_map_ ? local_map_ : targets_)
+                                  : RegistrationTargets(guess * input.base_T_laser, geometry);
+  if (!locating) targets_are_local_map_ = &targets == &local_map_;
+  // A located scan's guess is within a few centimetres of the result (odometry over less than
+  // the processing threshold): validated from there, without projecting the targets again.
+  RegistrationResult registration = nicp_.AlignProjective(
+      targets, base_points, guess, input.base_T_laser, geometry, prior,
+      locating ? Nicp::ValidationView::kFromGuess : Nicp::ValidationView::kFromResult);
+  if (!locating && prior && !registration.validation.accepted) {
     // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
     // decide alone before giving up on the local map.
     ++stats.counters["registrations_retried_without_prior"];
@@ -141,7 +151,10 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
     // The earlier scans were placed by the odometry that just failed.
     if (registration.validation.accepted) motion_filter_.Clear();
   }
-  if (&targets != &local_map_ && registration.solved) {
+  // A located scan that fits the targets is taken as it is (one projection of the local map
+  // less); the whole local map is the second chance.
+  const bool done = locating && registration.validation.accepted;
+  if (&targets != &local_map_ && registration.solved && !done) {
     // Judged against everything the local map saw: areas seen once (just come into view)
     // are not targets yet, but they are evidence that the scan fits.
     registration.validation =
@@ -154,11 +167,17 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
 std::optional<Pose2> Tracker::Locate(const ScanInput& input, const Pose2& previous_tracker_T_base,
                                      const Pose2& odometry_step, MapperStats& stats) {
   if (!initialized_ || !options_.tracker.scan_matching) return std::nullopt;
+  if (corrections_seen_ && mean_correction_m_ < options_.tracker.locate_min_correction_m &&
+      mean_correction_rad_ < options_.tracker.locate_min_correction_rad) {
+    ++stats.counters["skipped_scans_dead_reckoned"];
+    return std::nullopt;
+  }
   const Cloud base_points = MakeCloud(input, nullptr, stats);
   // No retry without the prior: a step this short that odometry got badly wrong is better dead
   // reckoned than matched alone (the next processed scan decides).
-  const RegistrationResult registration = Register(
-      input, base_points, previous_tracker_T_base * odometry_step, odometry_step, false, stats);
+  const RegistrationResult registration =
+      Register(input, base_points, previous_tracker_T_base * odometry_step, odometry_step,
+               RegistrationMode::kLocate, stats);
   if (!registration.solved || !registration.validation.accepted ||
       !registration.reference_T_current.IsFinite()) {
     ++stats.counters["skipped_scans_not_located"];
@@ -180,7 +199,7 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
   Cloud base_points = MakeCloud(input, &beams, stats);
   MarkMovingPoints(input, base_points, stats);
   const RegistrationResult registration =
-      Register(input, base_points, guess, odometry_step, true, stats);
+      Register(input, base_points, guess, odometry_step, RegistrationMode::kTrack, stats);
   if (!registration.solved || !registration.validation.accepted ||
       !registration.reference_T_current.IsFinite()) {
     ++stats.counters["tracker_failures"];
@@ -190,6 +209,13 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
   }
   result.registered = true;
   result.tracker_T_base = registration.reference_T_current;
+  // How far registration moves odometry's guess, on average over the last ~20 processed scans.
+  const Pose2 correction = guess.Between(registration.reference_T_current);
+  const double rate = corrections_seen_ ? 0.05 : 1.0;
+  corrections_seen_ = true;
+  mean_correction_m_ += rate * (correction.translation().norm() - mean_correction_m_);
+  mean_correction_rad_ +=
+      rate * (std::abs(NormalizeAngle(correction.theta())) - mean_correction_rad_);
   // Covariance of the new pose in its own frame, scaled (the Hessian is optimistic), as the
   // covariance of the step from the previous pose (which the local map already contains).
   const Eigen::Matrix3d information = registration.information;

@@ -113,7 +113,8 @@ RegistrationResult Nicp::Solve(const Cloud& reference, const Cloud& current, con
 RegistrationResult Nicp::AlignProjective(const Cloud& reference, const Cloud& current,
                                          const Pose2& guess, const Pose2& current_T_sensor,
                                          const ProjectorGeometry& geometry,
-                                         const std::optional<PosePrior>& prior) {
+                                         const std::optional<PosePrior>& prior,
+                                         ValidationView validation_view) {
   const Pose2 viewpoint = guess * current_T_sensor;  // in the reference frame
   const Pose2 viewpoint_T_reference = viewpoint.inverse();
   ProjectCloud(geometry, viewpoint_T_reference, reference, &reference_image_);
@@ -149,8 +150,14 @@ RegistrationResult Nicp::AlignProjective(const Cloud& reference, const Cloud& cu
     }
   };
   RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
-  result.validation = Validate(reference, current, result.reference_T_current,
-                               result.reference_T_current * current_T_sensor, geometry);
+  if (validation_view == ValidationView::kFromGuess) {
+    // The reference image is already seen from there: only the current cloud is projected.
+    result.validation = CompareWithReferenceImage(
+        current, viewpoint_T_reference * result.reference_T_current, geometry);
+  } else {
+    result.validation = Validate(reference, current, result.reference_T_current,
+                                 result.reference_T_current * current_T_sensor, geometry);
+  }
   return result;
 }
 
@@ -181,10 +188,16 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
 RegistrationValidation Nicp::Validate(const Cloud& reference, const Cloud& current,
                                       const Pose2& reference_T_current, const Pose2& viewpoint,
                                       const ProjectorGeometry& geometry) {
-  RegistrationValidation v;
   const Pose2 view_T_reference = viewpoint.inverse();
   ProjectCloud(geometry, view_T_reference, reference, &reference_image_);
-  ProjectCloud(geometry, view_T_reference * reference_T_current, current, &current_image_);
+  return CompareWithReferenceImage(current, view_T_reference * reference_T_current, geometry);
+}
+
+RegistrationValidation Nicp::CompareWithReferenceImage(const Cloud& current,
+                                                       const Pose2& view_T_current,
+                                                       const ProjectorGeometry& geometry) {
+  RegistrationValidation v;
+  ProjectCloud(geometry, view_T_current, current, &current_image_);
   for (int bin = 0; bin < geometry.num_bins; ++bin) {
     if (reference_image_.indices[bin] < 0 || current_image_.indices[bin] < 0) continue;
     ++v.correspondences;

@@ -37,7 +37,7 @@ std::vector<Segment> LongWorld() {
 }
 
 Drive MakeDrive(int steps, double step_m, std::uint64_t seed, double slip = 0.03,
-                double drift_rad_per_m = 0.01) {
+                double drift_rad_per_m = 0.01, double heading_noise_rad = 0.005) {
   Drive drive;
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> unit(0.0, 1.0);
@@ -51,8 +51,9 @@ Drive MakeDrive(int steps, double step_m, std::uint64_t seed, double slip = 0.03
     const Pose2 step(step_m, 0.0, 0.02 * std::cos(0.1 * i));  // heading stays within 0.2 rad
     if (i > 0) {
       truth = truth * step;
-      odom = odom * Pose2(step.x() * (1.0 + slip * unit(rng)), 0.0,
-                          step.theta() + drift_rad_per_m * step.x() + 0.005 * unit(rng));
+      odom =
+          odom * Pose2(step.x() * (1.0 + slip * unit(rng)), 0.0,
+                       step.theta() + drift_rad_per_m * step.x() + heading_noise_rad * unit(rng));
     }
     ScanInput input;
     input.scan = CastScan(world, {}, truth, laser, seed * 1000 + i);
@@ -132,13 +133,17 @@ TEST(Mapper, SkipsScansWhileOdometryStandsStillButGivesThemPoses) {
   EXPECT_EQ(mapper.stats().scans_skipped.at("no_motion"), 20u);
   const auto trajectory = mapper.Trajectory();
   ASSERT_EQ(trajectory.size(), 40u);
-  // Each copy is located against the local map its original went into: the same place, within
-  // what fusing the original into the map moved its points (measured: at most 0.8 mm).
+  // Each copy is dead reckoned (no motion: the original's pose) or located against the local map
+  // its original went into: the same place, within what fusing the original into the map moved
+  // its points (measured: at most 0.8 mm).
   for (std::size_t i = 0; i + 1 < trajectory.size(); i += 2) {
     EXPECT_LT((trajectory[i].pose.translation() - trajectory[i + 1].pose.translation()).norm(),
               0.002);
   }
-  EXPECT_EQ(mapper.stats().counters.at("skipped_scans_located"), 20u);
+  // Located, or dead reckoned once registration shows odometry good enough (3 % slip here).
+  const auto& counters = mapper.stats().counters;
+  auto count = [&](const char* key) { return counters.count(key) ? counters.at(key) : 0u; };
+  EXPECT_EQ(count("skipped_scans_located") + count("skipped_scans_dead_reckoned"), 20u);
 }
 
 // Error of the step between consecutive trajectory poses against the truth's, averaged (m + rad).
@@ -178,6 +183,21 @@ TEST(Mapper, ScansBetweenProcessedOnesAreLocatedAgainstTheLocalMap) {
   // Measured: mean step error (m + rad) 0.0028 located, 0.0140 dead reckoned.
   std::printf("mean step error: located %.4f, dead reckoned %.4f\n", step_error[1], step_error[0]);
   EXPECT_LT(step_error[1], 0.5 * step_error[0]) << step_error[1] << " vs " << step_error[0];
+}
+
+TEST(Mapper, WithGoodOdometryTheScansInBetweenAreDeadReckoned) {
+  // Perfect odometry: registration moves its guess by the registration's own noise only (under
+  // 5 mm and 5 mrad), so once that shows, the scans in between are dead reckoned, not located.
+  const Drive drive = MakeDrive(240, 0.04, 7, 0.0, 0.0, 0.0);
+  Mapper mapper(MapperOptions{});
+  for (const auto& input : drive.inputs) mapper.AddScan(input);
+  mapper.Finish();
+  const auto& counters = mapper.stats().counters;
+  const auto skipped = mapper.stats().scans_skipped.at("no_motion");
+  ASSERT_TRUE(counters.count("skipped_scans_dead_reckoned"));
+  EXPECT_GT(counters.at("skipped_scans_dead_reckoned"), skipped / 2);
+  // The first ones are located: the average starts high.
+  EXPECT_GT(counters.at("skipped_scans_located"), 0u);
 }
 
 TEST(Mapper, ScansWithDuplicateStampsAreSkippedAndChangeNothing) {

@@ -11,10 +11,10 @@
 namespace longterm_mapper2d {
 
 struct LocalMapMergeStats {
-  int virtual_scans = 0;        // viewpoints (the new map's waypoints) that produced a scan
-  int aligned = 0;              // ... whose alignment to the merged cloud validated
-  int old_waypoints_kept = 0;   // waypoints of the old map not covered by a new one
-  MergeStats merge;             // summed over the virtual scans
+  int virtual_scans = 0;       // viewpoints (the new map's waypoints) that produced a scan
+  int aligned = 0;             // ... whose alignment to the merged cloud validated
+  int old_waypoints_kept = 0;  // waypoints of the old map not covered by a new one
+  MergeStats merge;            // summed over the virtual scans
 };
 
 // Merges an old local map into a new one that a loop closure found in the same place

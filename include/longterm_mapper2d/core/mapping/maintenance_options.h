@@ -65,7 +65,8 @@ struct MaintenanceOptions {
   void Validate(OptionErrors& e) const {
     e.Require(CondensationModeFromName(condensation).has_value(), "condensation",
               "must be 'local_tree', 'local_star' or 'whole_graph'");
-    e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m", "must be non-negative");
+    e.Require(waypoint_merge_distance_m >= 0.0, "waypoint_merge_distance_m",
+              "must be non-negative");
     e.Require(waypoint_merge_angle_rad >= 0.0, "waypoint_merge_angle_rad", "must be non-negative");
     e.Require(merge_distance_m > 0.0, "merge_distance_m", "must be positive");
     e.Require(align_min_inlier_ratio >= 0.0 && align_min_inlier_ratio <= 1.0,

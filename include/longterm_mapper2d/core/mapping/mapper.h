@@ -135,8 +135,8 @@ class Mapper {
   // Tracking state.
   bool has_last_processed_ = false;
   double last_processed_stamp_s_ = 0.0;
-  Pose2 last_odom_T_base_;      // at the last processed scan
-  Pose2 last_tracker_T_base_;   // at the last processed scan
+  Pose2 last_odom_T_base_;     // at the last processed scan
+  Pose2 last_tracker_T_base_;  // at the last processed scan
   std::optional<Pose2> last_waypoint_tracker_T_base_;
   Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
   bool stretch_after_failure_ = false;

@@ -44,7 +44,8 @@ class Tracker {
 
   // Registers a scan the mapper does not process (too little motion since the last processed one)
   // against the local map, for its pose only: the local map, the motion filter and the last
-  // processed pose stay as they are. The pose if the registration is accepted, else nothing.
+  // processed pose stay as they are. The pose if the registration is accepted, else nothing;
+  // nothing as well while odometry is good (TrackerOptions::locate_min_correction_m / _rad).
   std::optional<Pose2> Locate(const ScanInput& input, const Pose2& previous_tracker_T_base,
                               const Pose2& odometry_step, MapperStats& stats);
 
@@ -56,10 +57,14 @@ class Tracker {
   void MergeIntoLocalMap(const ScanInput& input, const Cloud& base_points,
                          const std::vector<int>& beams, const Pose2& tracker_T_base,
                          MapperStats& stats);
+  // kTrack: a processed scan; targets chosen for it, retried without the odometry prior if it
+  // does not validate, validated against the whole local map. kLocate: a skipped scan; the last
+  // processed scan's targets, no retry, the whole local map only if the targets do not validate.
+  enum class RegistrationMode { kTrack, kLocate };
   // Registers base_points (the scan's cloud) against the local map from guess, with the odometry
-  // prior of the step if configured; the validation is against the whole local map.
+  // prior of the step if configured.
   RegistrationResult Register(const ScanInput& input, const Cloud& base_points, const Pose2& guess,
-                              const Pose2& odometry_step, bool retry_without_prior,
+                              const Pose2& odometry_step, RegistrationMode mode,
                               MapperStats& stats);
   // Marks the scan points of things seen moving (MotionFilter) and keeps the scan as a reference.
   void MarkMovingPoints(const ScanInput& input, Cloud& base_points, MapperStats& stats);
@@ -72,8 +77,14 @@ class Tracker {
   CloudMerger merger_;
   MotionFilter motion_filter_;
   Cloud local_map_;
-  std::vector<char> moving_;  // per scan point, from motion_filter_
-  Cloud targets_;             // reused buffers of RegistrationTargets()
+  std::vector<char> moving_;           // per scan point, from motion_filter_
+  Cloud targets_;                      // reused buffers of RegistrationTargets()
+  bool targets_are_local_map_ = true;  // the last processed scan's targets: local_map_ or targets_
+  // Moving averages of how far registration moved odometry's guess (processed scans); until the
+  // first, every skipped scan is located.
+  bool corrections_seen_ = false;
+  double mean_correction_m_ = 0.0;
+  double mean_correction_rad_ = 0.0;
   RangeImage view_;
   bool initialized_ = false;
   Eigen::Vector2d last_clip_position_ = Eigen::Vector2d::Zero();

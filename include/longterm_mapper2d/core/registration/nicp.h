@@ -49,10 +49,14 @@ class Nicp {
   // Projective association: the reference is projected once from the guessed sensor pose
   // (guess * current_T_sensor) into `geometry` bins; each current point looks for its partner in
   // the bins around its own. For scan-to-local-map tracking.
+  // Where the validation looks from: the estimated sensor pose (kFromResult), or the guessed one
+  // (kFromGuess), which saves projecting the reference again; for a guess close to the result.
+  enum class ValidationView { kFromResult, kFromGuess };
   RegistrationResult AlignProjective(const Cloud& reference, const Cloud& current,
                                      const Pose2& guess, const Pose2& current_T_sensor,
                                      const ProjectorGeometry& geometry,
-                                     const std::optional<PosePrior>& prior);
+                                     const std::optional<PosePrior>& prior,
+                                     ValidationView validation_view = ValidationView::kFromResult);
 
   // Nearest-neighbour association through a grid over the reference (NearestNeighbourGrid): for
   // map-to-map alignment (local maps of loop closures and merges), where there is no single
@@ -71,6 +75,11 @@ class Nicp {
   const RegistrationOptions& options() const { return options_; }
 
  private:
+  // Validate() against the reference image as last projected (from the view of view_T_current).
+  RegistrationValidation CompareWithReferenceImage(const Cloud& current,
+                                                   const Pose2& view_T_current,
+                                                   const ProjectorGeometry& geometry);
+
   struct Pair {
     int reference;
     int current;
