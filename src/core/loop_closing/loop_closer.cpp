@@ -314,7 +314,7 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       }
     }
     ++stats.counters["loop_closure_candidates"];
-    AddCandidate({node, olds[k], *outcomes[k].pose});
+    AddCandidate({node, olds[k], *outcomes[k].pose, path != chain_m.end()});
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <utility>
 #include <vector>
@@ -20,6 +21,9 @@ struct ClosureCandidate {
   GraphNodeId local = 0;
   GraphNodeId old = 0;
   Pose2 local_T_old;
+  // The old node is within LoopClosingOptions::chain_gate_max_path_m along the local node's
+  // chain (the chain gate checked the alignment): voted apart from the others.
+  bool on_chain = false;
 };
 
 // Shortest path lengths from `source` along odometry edges (Euclidean lengths between the nodes'
@@ -69,6 +73,8 @@ class LoopCloser {
       const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
       std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
   Eigen::Matrix3d ClosureInformation() const;
+  void VoteWithin(const PoseGraph& graph, std::optional<bool> on_chain,
+                  std::vector<GraphEdge>& accepted, MapperStats& stats);
   // Where the waiting candidates that disagree with the graph put `node` against their old
   // nodes and those nodes' odometry neighbours: node_T_old guesses per old node (at most two).
   std::map<GraphNodeId, std::vector<Pose2>> PredictFromWaiting(const PoseGraph& graph,

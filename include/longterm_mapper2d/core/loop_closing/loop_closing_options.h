@@ -48,8 +48,11 @@ struct LoopClosingOptions {
   double min_inlier_ratio = 0.5;
   int min_correspondences = 50;
   // An alignment whose translation information is this much weaker along one axis than along the
-  // other is degenerate (a corridor, a single wall): it cannot close a loop.
-  double min_information_ratio = 1e-4;
+  // other is degenerate (a corridor, a single wall): it cannot close a loop. 0.005, not 1e-4: on
+  // aces the run's first return to its start produced four alignments, all slid 1.7-4.2 m along
+  // a corridor (ratios 3e-4 to 1.9e-3, against 3e-3 to 0.9 for most right ones); over the five
+  // runs of bench_robustness.sh 0.003, 0.005 and 0.01 all did better than 1e-4 (README).
+  double min_information_ratio = 0.005;
   // After a tracker failure, until a closure ties the new nodes to older ones, an alignment that
   // fails from the graph's guess is tried again with the new node turned by +-k * step,
   // k = 1..steps (0: never). Only then: for every node it would double the alignment time.
@@ -77,6 +80,19 @@ struct LoopClosingOptions {
   // aligned there, with the old node and its odometry neighbours, even out of the search's reach.
   // Without it a large loop has one candidate and never the support of two distinct nodes.
   bool vote_predict_from_waiting = true;
+  // Vote on the candidates the chain gate checked (old node within chain_gate_max_path_m along
+  // this session's chain) apart from the others. Why: the sub-map that moves in the vote is the
+  // nodes waiting for votes, not the chain between them and an old node a few nodes back, so
+  // such a short loop, however right, disagrees with any hypothesis that moves the sub-map and
+  // outvotes a real return to a place seen long ago (aces, node 2.4 m: the return to the start,
+  // three distinct nodes, lost to four short loops and the map stayed 11 m apart).
+  bool vote_chain_apart = true;
+  // When hypotheses are ranked, one the graph already agrees with (its own candidate within
+  // vote_inlier_chi2 of the graph) counts one distinct node more: the closures accepted so far
+  // are evidence too. Acceptance still needs vote_min_inliers of its own. Why: several new nodes
+  // aligned to the one old map the graph already joined them to count as one node, and lost to
+  // two candidates 1 m away to a look-alike room (intel, scan every 0.11 m: 6 m off).
+  bool vote_graph_supports = true;
   // Drift of the trajectory per metre between two candidates' nodes, added to the closure's
   // covariance when one is scored against the other's hypothesis (0: the rigid test alone).
   double vote_drift_per_m = 0.05;
@@ -116,6 +132,8 @@ struct LoopClosingOptions {
     v("vote_outlier_chi2", vote_outlier_chi2);
     v("vote_distinct_nodes", vote_distinct_nodes);
     v("vote_predict_from_waiting", vote_predict_from_waiting);
+    v("vote_chain_apart", vote_chain_apart);
+    v("vote_graph_supports", vote_graph_supports);
     v("vote_drift_per_m", vote_drift_per_m);
     v("vote_drift_rad_per_m", vote_drift_rad_per_m);
     v("optimizer_iterations", optimizer_iterations);
