@@ -73,6 +73,7 @@ class LoopCloser {
       const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
       std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
   Eigen::Matrix3d ClosureInformation() const;
+  // One vote among the buffered candidates with this `on_chain` (nullopt: all of them).
   void VoteWithin(const PoseGraph& graph, std::optional<bool> on_chain,
                   std::vector<GraphEdge>& accepted, MapperStats& stats);
   // Where the waiting candidates that disagree with the graph put `node` against their old
