@@ -19,18 +19,13 @@ double Shrink(double value, double by) {
   return value > by ? value - by : (value < -by ? value + by : 0.0);
 }
 
-}  // namespace
-
-std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
-                                                  double limit, bool tracker_chain_only) {
+// Shortest path lengths from `source` over the edges `use` admits, within `limit`.
+template <class EdgeFilter>
+std::map<GraphNodeId, double> PathLengths(const PoseGraph& graph, GraphNodeId source, double limit,
+                                          const EdgeFilter& use) {
   std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
-  const int session = graph.node(source).session_id;
   for (const GraphEdge& e : graph.edges()) {
-    if (e.kind != EdgeKind::kOdometry) continue;
-    if (tracker_chain_only &&
-        (graph.node(e.from).session_id != session || graph.node(e.to).session_id != session)) {
-      continue;
-    }
+    if (!use(e)) continue;
     adjacency[e.from].push_back(e.to);
     adjacency[e.to].push_back(e.from);
   }
@@ -56,6 +51,23 @@ std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphN
   return distance;
 }
 
+}  // namespace
+
+std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
+                                                  double limit, bool tracker_chain_only) {
+  const int session = graph.node(source).session_id;
+  return PathLengths(graph, source, limit, [&](const GraphEdge& e) {
+    return e.kind == EdgeKind::kOdometry &&
+           (!tracker_chain_only ||
+            (graph.node(e.from).session_id == session && graph.node(e.to).session_id == session));
+  });
+}
+
+std::map<GraphNodeId, double> GraphPathLengths(const PoseGraph& graph, GraphNodeId source,
+                                               double limit) {
+  return PathLengths(graph, source, limit, [](const GraphEdge&) { return true; });
+}
+
 LoopCloser::LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration)
     : options_(options), coarse_(registration), fine_(registration) {
   coarse_.max_correspondence_distance_m = options.coarse_correspondence_m;
@@ -76,15 +88,18 @@ Eigen::Matrix3d LoopCloser::ClosureInformation() const {
 }
 
 std::vector<GraphNodeId> LoopCloser::Candidates(
-    const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
+    const PoseGraph& graph, GraphNodeId node, bool sweep, MapperStats& stats,
     std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const {
   const Pose2& pose = graph.node(node).pose;
   // Along odometry edges only: nodes that a closure or a merge joined are still candidates, so a
-  // revisited place keeps finding its old local maps and merging them.
-  const auto near_in_graph = OdometryPathLengths(graph, node, options_.min_graph_distance_m);
+  // revisited place keeps finding its old local maps and merging them. The sweep looks only for
+  // what is still missing: older nodes not already tied closely along any edges.
+  const auto near_in_graph =
+      sweep ? GraphPathLengths(graph, node, options_.final_sweep_min_graph_path_m)
+            : OdometryPathLengths(graph, node, options_.min_graph_distance_m);
   std::vector<GraphNodeId> nearby;
   for (const auto& [id, other] : graph.nodes()) {
-    if (id == node || near_in_graph.count(id)) continue;
+    if (id == node || near_in_graph.count(id) || (sweep && id > node)) continue;
     if ((other.pose.translation() - pose.translation()).norm() <= options_.max_distance_m) {
       nearby.push_back(id);
     }
@@ -154,9 +169,20 @@ std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cl
 
 void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
                             MapperStats& stats, bool heading_in_doubt) {
+  Search(graph, node, cloud_of, stats, heading_in_doubt, /*sweep=*/false);
+}
+
+void LoopCloser::SweepFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
+                           MapperStats& stats) {
+  Search(graph, node, cloud_of, stats, /*heading_in_doubt=*/false, /*sweep=*/true);
+}
+
+void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
+                        MapperStats& stats, bool heading_in_doubt, bool sweep) {
   if (!options_.enabled || !graph.HasNode(node)) return;
   std::map<GraphNodeId, Eigen::Matrix2d> offset_covariance;
-  const std::vector<GraphNodeId> candidates = Candidates(graph, node, stats, &offset_covariance);
+  const std::vector<GraphNodeId> candidates =
+      Candidates(graph, node, sweep, stats, &offset_covariance);
   // Waiting loops the graph has drifted away from are tried from this node too, where they put it.
   const std::map<GraphNodeId, std::vector<Pose2>> predicted = PredictFromWaiting(graph, node);
   if (candidates.empty() && predicted.empty()) return;
@@ -296,6 +322,11 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
         outcomes[k].pose->inverse().translation() - graph_guesses[k].inverse().translation();
     const double turn_rad =
         std::abs(NormalizeAngle(outcomes[k].pose->theta() - graph_guesses[k].theta()));
+    if (sweep && (innovation.norm() > options_.final_sweep_max_offset_m ||
+                  turn_rad > options_.final_sweep_max_offset_rad)) {
+      ++stats.counters["loop_closure_sweep_alignments_off_graph"];
+      continue;
+    }
     const auto path = chain_m.find(olds[k]);
     if (path != chain_m.end() &&
         (innovation.norm() > options_.chain_gate_m + options_.chain_gate_per_m * path->second ||
@@ -314,7 +345,7 @@ void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const Clou
       }
     }
     ++stats.counters["loop_closure_candidates"];
-    AddCandidate({node, olds[k], *outcomes[k].pose, path != chain_m.end()});
+    AddCandidate({node, olds[k], *outcomes[k].pose, path != chain_m.end(), sweep});
   }
 }
 

@@ -47,8 +47,9 @@ void LoopCloser::VoteWithin(const PoseGraph& graph, std::optional<bool> on_chain
           (graph.node(c.local).pose.translation() - graph.node(hyp.local).pose.translation())
               .norm() +
           (graph.node(c.old).pose.translation() - graph.node(hyp.old).pose.translation()).norm();
-      const double s_xy = options_.vote_drift_per_m * d;
-      const double s_th = options_.vote_drift_rad_per_m * d;
+      // The final sweep votes on the optimised graph: no drift left to allow for.
+      const double s_xy = hyp.from_sweep ? 0.0 : options_.vote_drift_per_m * d;
+      const double s_th = hyp.from_sweep ? 0.0 : options_.vote_drift_rad_per_m * d;
       const Eigen::Vector3d drift_variance(s_xy * s_xy, s_xy * s_xy, s_th * s_th);
       const Eigen::Vector3d drifted_information =
           (information.diagonal().cwiseInverse() + drift_variance).cwiseInverse();

@@ -221,33 +221,13 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   CloseLoops(id, false);
 }
 
-void Mapper::CloseLoops(NodeId node, bool force) {
-  if (!options_.loop_closing.enabled) return;
-  ScopedStageTimer timer(stats_.stage_times, "loop_closing");
-  loop_closer_.SearchFrom(
-      graph_, node, [this](GraphNodeId id) -> const Cloud& { return nodes_.at(id).cloud; }, stats_,
-      doubtful_since_.has_value());
-  const std::vector<GraphEdge> closures = loop_closer_.Vote(graph_, force, stats_);
-  for (const GraphEdge& edge : closures) {
-    if (doubtful_since_ && std::max(edge.from, edge.to) >= *doubtful_since_ &&
-        std::min(edge.from, edge.to) < *doubtful_since_) {
-      doubtful_since_.reset();
-    }
-  }
-  for (const GraphEdge& edge : closures) graph_.AddEdge(edge);
-  if (!closures.empty()) OptimizeGraph(options_.loop_closing.optimizer_iterations);
-  QueueMerges(closures);
-  MergeReadySets();
-}
-
 Status Mapper::OptimizeNow() {
   if (mode_ != MapperMode::kMapping) {
     return Status::Error("not in mapping mode: the map is frozen while localizing");
   }
   if (graph_.nodes().empty()) return Status::Error("nothing to optimise yet: the map has no node");
   const auto before = stats_.counters["optimizations_unusable"];
-  if (options_.loop_closing.enabled && last_node_) CloseLoops(*last_node_, true);
-  OptimizeGraph(options_.optimizer.max_iterations);
+  FinalClosureCheck();
   if (stats_.counters["optimizations_unusable"] != before) {
     return Status::Error("the solve was unusable; the previous estimate is kept");
   }
@@ -277,12 +257,9 @@ void Mapper::Finish() {
   if (!pending_waypoints_.empty()) {
     CreateNode(trajectory_.back().stamp_s, last_tracker_T_base_, stretch_after_failure_);
   }
-  // A last vote on whatever closures are still pending, then a full optimisation (not in
-  // localization: the map stays as it was).
-  if (options_.loop_closing.enabled && last_node_ && mode_ == MapperMode::kMapping) {
-    CloseLoops(*last_node_, true);
-    OptimizeGraph(options_.optimizer.max_iterations);
-  }
+  // A last vote on whatever closures are still pending, the final sweep, then a full optimisation
+  // (not in localization: the map stays as it was).
+  if (options_.loop_closing.enabled && mode_ == MapperMode::kMapping) FinalClosureCheck();
   // Scans after the last node (skipped ones) are attached to it.
   if (!last_node_) return;
   const Pose2 node_T_tracker = tracker_T_node_.at(*last_node_).inverse();

@@ -24,6 +24,8 @@ struct ClosureCandidate {
   // The old node is within LoopClosingOptions::chain_gate_max_path_m along the local node's
   // chain (the chain gate checked the alignment): voted apart from the others.
   bool on_chain = false;
+  // Found by the final sweep (LoopCloser::SweepFrom): agreeing candidates must agree rigidly.
+  bool from_sweep = false;
 };
 
 // Shortest path lengths from `source` along odometry edges (Euclidean lengths between the nodes'
@@ -32,6 +34,10 @@ struct ClosureCandidate {
 // edge tying a session's first node to a loaded map is a prior, not a tracker measurement).
 std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
                                                   double limit_m, bool tracker_chain_only = false);
+// The same along every edge (odometry, closures, condensed): how closely the graph already ties
+// other nodes to `source`.
+std::map<GraphNodeId, double> GraphPathLengths(const PoseGraph& graph, GraphNodeId source,
+                                               double limit_m);
 
 // Finds loop closures for new nodes (candidates within a Mahalanobis gate, grouped into
 // connected sets, the nearest of each set aligned map-to-map and validated) and accepts them by
@@ -46,6 +52,11 @@ class LoopCloser {
   // LoopClosingOptions::recovery_heading_steps when the graph's guess does not align.
   void SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
                   MapperStats& stats, bool heading_in_doubt = false);
+  // The final sweep's search from `node` (LoopClosingOptions::final_sweep): like SearchFrom, but
+  // only against older nodes that the graph does not already tie closely to it, and only
+  // alignments that agree with the (optimised) graph within the sweep's offset bounds.
+  void SweepFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
+                 MapperStats& stats);
   // Runs the vote when due (or now, if `force`); returns the accepted closures as edges, never
   // one already accepted for the same pair. Ages the buffer.
   std::vector<GraphEdge> Vote(const PoseGraph& graph, bool force, MapperStats& stats);
@@ -67,10 +78,13 @@ class LoopCloser {
     bool degenerate = false;
   };
   Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
+  // SearchFrom (`sweep` false) and SweepFrom (true).
+  void Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of, MapperStats& stats,
+              bool heading_in_doubt, bool sweep);
   // The gated candidates, and for each the covariance of the new node's position seen from it
-  // (in its frame) that the gate used.
+  // (in its frame) that the gate used. `sweep`: older nodes not tied closely by the graph only.
   std::vector<GraphNodeId> Candidates(
-      const PoseGraph& graph, GraphNodeId node, MapperStats& stats,
+      const PoseGraph& graph, GraphNodeId node, bool sweep, MapperStats& stats,
       std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
   Eigen::Matrix3d ClosureInformation() const;
   // One vote among the buffered candidates with this `on_chain` (nullopt: all of them).

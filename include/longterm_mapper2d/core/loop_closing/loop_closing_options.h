@@ -99,6 +99,19 @@ struct LoopClosingOptions {
   double vote_drift_rad_per_m = 0.01;
   // Graph optimisation after each node and after closures.
   int optimizer_iterations = 10;
+  // The final sweep (end of a session, and OptimizeNow): every node of this session is searched
+  // again, oldest first, against the older nodes the optimised graph now puts near it, and voted
+  // on as when it was new. Why: a node is searched only once, when it is made, from where the
+  // graph had it then; a return to a place the drifted graph put metres away (aces: back at the
+  // start 9 m off, every alignment failed) stays open after later loops pull the map right (the
+  // start's relations ended 0.6-0.8 m off). Only pairs not already tied closely by the graph
+  // (farther than final_sweep_min_graph_path_m along any of its edges) are tried, an alignment
+  // must agree with the optimised graph within final_sweep_max_offset_m / _rad, and in the vote
+  // agreeing candidates must agree rigidly (no drift allowance: the graph has no drift left).
+  bool final_sweep = true;
+  double final_sweep_min_graph_path_m = 20.0;
+  double final_sweep_max_offset_m = 1.0;
+  double final_sweep_max_offset_rad = 0.3;
 
   template <class V>
   void Visit(V& v) {
@@ -137,6 +150,10 @@ struct LoopClosingOptions {
     v("vote_drift_per_m", vote_drift_per_m);
     v("vote_drift_rad_per_m", vote_drift_rad_per_m);
     v("optimizer_iterations", optimizer_iterations);
+    v("final_sweep", final_sweep);
+    v("final_sweep_min_graph_path_m", final_sweep_min_graph_path_m);
+    v("final_sweep_max_offset_m", final_sweep_max_offset_m);
+    v("final_sweep_max_offset_rad", final_sweep_max_offset_rad);
   }
   void Validate(OptionErrors& e) const {
     e.Require(min_graph_distance_m >= 0.0, "min_graph_distance_m", "must be non-negative");
@@ -175,6 +192,10 @@ struct LoopClosingOptions {
     e.Require(vote_outlier_chi2 > vote_inlier_chi2, "vote_outlier_chi2",
               "must exceed vote_inlier_chi2");
     e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
+    e.Require(final_sweep_min_graph_path_m >= 0.0, "final_sweep_min_graph_path_m",
+              "must be non-negative");
+    e.Require(final_sweep_max_offset_m > 0.0 && final_sweep_max_offset_rad > 0.0,
+              "final_sweep_max_offset_m", "the sweep's offset bounds must be positive");
   }
 };
 

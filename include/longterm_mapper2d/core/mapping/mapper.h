@@ -46,8 +46,9 @@ class Mapper {
   // Ends the session: the open stretch becomes the last node.
   void Finish();
   // What Finish() does to the graph, without ending the session: a last vote on the pending
-  // loop-closure candidates, then the whole graph optimised (up to the optimizer's iteration
-  // limit). Refused in localization mode (the map is frozen); an error if the solve was unusable
+  // loop-closure candidates, the final sweep (every node of this session searched again from the
+  // optimised graph, LoopClosingOptions::final_sweep), then the whole graph optimised (up to the
+  // optimizer's iteration limit). Refused in localization mode (the map is frozen); an error if the solve was unusable
   // (the estimate is kept).
   Status OptimizeNow();
 
@@ -103,7 +104,15 @@ class Mapper {
   void CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure);
   void CleanFinishedNode();
   // Loop closing for a new node, then optimisation if closures were accepted.
+  // Loop closing for a new node (mapper_loop_closing.cpp): search, vote, accepted closures in.
   void CloseLoops(NodeId node, bool force);
+  // Edges for the closures the vote accepted, then an optimisation and the merges they allow.
+  void AcceptClosures(const std::vector<GraphEdge>& closures);
+  // The last vote on pending candidates, the final sweep (LoopClosingOptions::final_sweep) and a
+  // full optimisation: what Finish() and OptimizeNow() do to the graph.
+  void FinalClosureCheck();
+  // Every node of this session searched again, oldest first, from the optimised graph.
+  void SweepClosures();
   void OptimizeGraph(int max_iterations);
   // Long-term maintenance (mapper_maintenance.cpp): pairs joined by accepted closures wait in a
   // queue until no pending closure candidate touches them; then each connected set merges into
