@@ -44,6 +44,9 @@ Input:
   --base-frame FRAME    robot base frame in /tf (default base_link)
   --odom-topic TOPIC    take odometry from this nav_msgs/Odometry topic instead of /tf
   --start S, --end S    only the data from S to E seconds after the first message
+  --laser-mount X,Y,TH  where the laser sits on the base, replacing what the recording says
+                        (its base -> laser transform, or a CARMEN log's pose difference): for a
+                        recording whose mount is known to be wrong
 Configuration:
   --config FILE.yaml    mapper options (see config/mapping.yaml); unknown keys are errors
   --print-config        print the effective options as YAML and exit
@@ -73,6 +76,7 @@ struct Arguments {
   std::string load_map;
   std::string save_map;
   std::optional<Pose2> initial_pose;
+  std::optional<Pose2> laser_mount;
   bool print_config = false;
   bool no_maintenance = false;
   RecordingOptions bag;
@@ -129,13 +133,13 @@ std::string Parse(int argc, char** argv, Arguments& args, bool& help) {
       ok = need_value(i, args.load_map);
     } else if (arg == "--save-map") {
       ok = need_value(i, args.save_map);
-    } else if (arg == "--initial-pose") {
+    } else if (arg == "--initial-pose" || arg == "--laser-mount") {
       double x, y, theta;
       char extra;
       ok = need_value(i, value) &&
            std::sscanf(value.c_str(), "%lf,%lf,%lf%c", &x, &y, &theta, &extra) == 3 &&
            std::isfinite(x) && std::isfinite(y) && std::isfinite(theta);
-      if (ok) args.initial_pose = Pose2(x, y, theta);
+      if (ok) (arg == "--laser-mount" ? args.laser_mount : args.initial_pose) = Pose2(x, y, theta);
     } else if (arg == "--print-config") {
       args.print_config = true;
     } else if (arg == "--no-maintenance") {
@@ -257,7 +261,13 @@ int RunOfflineMapper(int argc, char** argv, const RecordingOpener& open_bags) {
     if (scans_read == 0) first_stamp = input.scan.stamp_s;
     last_stamp = input.scan.stamp_s;
     ++scans_read;
-    mapper.AddScan(input);
+    if (args.laser_mount) {
+      ScanInput mounted = input;
+      mounted.base_T_laser = *args.laser_mount;
+      mapper.AddScan(mounted);
+    } else {
+      mapper.AddScan(input);
+    }
     progress.Update(scans_read);
   };
 
