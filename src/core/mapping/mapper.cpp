@@ -26,9 +26,10 @@ Pose2 Mapper::MapTTracker() const {
 
 void Mapper::Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base) {
   if (mode_ == MapperMode::kLocalization) {
-    trajectory_.push_back({stamp_s, false, true, 0, MapTTracker() * tracker_T_base});
+    trajectory_.push_back(
+        {stamp_s, false, true, 0, MapTTracker() * tracker_T_base, tracker_T_base});
   } else {
-    trajectory_.push_back({stamp_s, false, false, 0, tracker_T_base});
+    trajectory_.push_back({stamp_s, false, false, 0, tracker_T_base, tracker_T_base});
   }
   map_T_odom_ = MapTTracker() * tracker_T_base * odom_T_base.inverse();
 }
@@ -270,38 +271,6 @@ void Mapper::Finish() {
     trajectory_[i].node = *last_node_;
   }
   first_pending_entry_ = trajectory_.size();
-}
-
-std::vector<StampedPose2> Mapper::Trajectory() const {
-  std::vector<StampedPose2> trajectory;
-  trajectory.reserve(trajectory_.size());
-  const Pose2 map_T_tracker = MapTTracker();
-  for (const auto& entry : trajectory_) {
-    const Pose2 pose = entry.in_map     ? entry.pose
-                       : entry.attached ? nodes_.at(entry.node).map_T_node * entry.pose
-                                        : map_T_tracker * entry.pose;
-    trajectory.push_back({entry.stamp_s, pose});
-  }
-  return trajectory;
-}
-
-std::vector<AnchoredPose> Mapper::TrajectoryAnchors() const {
-  std::vector<AnchoredPose> anchors;
-  anchors.reserve(trajectory_.size());
-  const Pose2 map_T_tracker = MapTTracker();
-  for (const auto& entry : trajectory_) {
-    if (entry.in_map || (!entry.attached && !last_node_)) {
-      anchors.push_back(
-          {entry.stamp_s, kMapFrame, entry.in_map ? entry.pose : map_T_tracker * entry.pose});
-    } else if (entry.attached) {
-      anchors.push_back({entry.stamp_s, entry.node, entry.pose});
-    } else {
-      const Pose2& map_T_last = nodes_.at(*last_node_).map_T_node;
-      anchors.push_back(
-          {entry.stamp_s, *last_node_, map_T_last.inverse() * map_T_tracker * entry.pose});
-    }
-  }
-  return anchors;
 }
 
 std::vector<PosedScan> Mapper::WaypointScans() const {

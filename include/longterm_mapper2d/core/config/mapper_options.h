@@ -2,18 +2,19 @@
 
 #include <string>
 
-#include "longterm_mapper2d/core/common/status.h"
 #include "longterm_mapper2d/core/cloud/cloud_merger.h"
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
+#include "longterm_mapper2d/core/common/status.h"
 #include "longterm_mapper2d/core/config/input_options.h"
+#include "longterm_mapper2d/core/config/option_errors.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closing_options.h"
+#include "longterm_mapper2d/core/map/grid_options.h"
 #include "longterm_mapper2d/core/mapping/maintenance_options.h"
 #include "longterm_mapper2d/core/mapping/motion_filter.h"
 #include "longterm_mapper2d/core/mapping/tracker_options.h"
+#include "longterm_mapper2d/core/mapping/trajectory_smoothing.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
-#include "longterm_mapper2d/core/config/option_errors.h"
-#include "longterm_mapper2d/core/map/grid_options.h"
 
 namespace longterm_mapper2d {
 
@@ -32,6 +33,7 @@ struct MapperOptions {
   OptimizerOptions optimizer;
   MaintenanceOptions maintenance;
   GridOptions grid;
+  TrajectorySmoothingOptions trajectory;
 
   template <class V>
   void Visit(V& v) {
@@ -47,6 +49,7 @@ struct MapperOptions {
     v.Section("optimizer", optimizer);
     v.Section("maintenance", maintenance);
     v.Section("grid", grid);
+    v.Section("trajectory", trajectory);
   }
   void Validate(OptionErrors& e) const {
     e.Section("input", input);
@@ -61,6 +64,7 @@ struct MapperOptions {
     e.Section("optimizer", optimizer);
     e.Section("maintenance", maintenance);
     e.Section("grid", grid);
+    e.Section("trajectory", trajectory);
   }
 };
 

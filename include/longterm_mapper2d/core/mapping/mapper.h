@@ -48,8 +48,8 @@ class Mapper {
   // What Finish() does to the graph, without ending the session: a last vote on the pending
   // loop-closure candidates, the final sweep (every node of this session searched again from the
   // optimised graph, LoopClosingOptions::final_sweep), then the whole graph optimised (up to the
-  // optimizer's iteration limit). Refused in localization mode (the map is frozen); an error if the solve was unusable
-  // (the estimate is kept).
+  // optimizer's iteration limit). Refused in localization mode (the map is frozen); an error if the
+  // solve was unusable (the estimate is kept).
   Status OptimizeNow();
 
   // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
@@ -66,7 +66,8 @@ class Mapper {
   SessionMap ExportSession() const;
   int session_id() const { return session_id_; }
 
-  // map_T_base for every input scan, in input order, at the final estimate.
+  // map_T_base for every input scan, in input order, at the final estimate; the scans that hang off
+  // local maps smoothed across their boundaries (TrajectorySmoothingOptions).
   std::vector<StampedPose2> Trajectory() const;
   // The same poses as they hang off the local maps (the scans after the last node off it): a
   // later session's map re-expresses them with every correction since (ReexpressTrajectory).
@@ -91,7 +92,8 @@ class Mapper {
     bool attached = false;
     bool in_map = false;  // recorded in localization: the pose is map_T_base, fixed
     NodeId node = 0;
-    Pose2 pose;  // node_T_base if attached, map_T_base if in_map, else tracker_T_base
+    Pose2 pose;            // node_T_base if attached, map_T_base if in_map, else tracker_T_base
+    Pose2 tracker_T_base;  // as the tracker had it (the chain the trajectory is smoothed along)
   };
   struct PendingWaypoint {
     Pose2 tracker_T_base;
