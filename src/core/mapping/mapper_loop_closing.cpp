@@ -29,11 +29,24 @@ void Mapper::AcceptClosures(const std::vector<GraphEdge>& closures) {
 }
 
 void Mapper::FinalClosureCheck() {
-  if (options_.loop_closing.enabled && last_node_) {
-    CloseLoops(*last_node_, true);
+  if (options_.loop_closing.enabled) {
+    // Every node was searched when it was made: what is left is the vote on the candidates
+    // still waiting for later nodes.
+    {
+      ScopedStageTimer timer(stats_.stage_times, "loop_closing");
+      AcceptClosures(loop_closer_.Vote(graph_, /*force=*/true, stats_));
+    }
     if (options_.loop_closing.final_sweep) {
       OptimizeGraph(options_.optimizer.max_iterations);
+      // The sweep's closures (and merges) are optimised on acceptance; a sweep that changes
+      // nothing leaves the graph as optimised just above.
+      const auto changes_before =
+          stats_.counters["loop_closures_accepted"] + stats_.counters["merges"];
       SweepClosures();
+      if (stats_.counters["loop_closures_accepted"] + stats_.counters["merges"] ==
+          changes_before) {
+        return;
+      }
     }
   }
   OptimizeGraph(options_.optimizer.max_iterations);

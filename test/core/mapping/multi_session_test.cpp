@@ -295,5 +295,35 @@ TEST(MultiSession, LoadingAfterTheFirstScanIsRefused) {
   EXPECT_FALSE(empty.LoadSession(SessionMap{}, std::nullopt).ok());
 }
 
+TEST(MultiSession, OptimizingOnDemandAlignsNoNodeAgain) {
+  // Every node is searched for closures when it is made; optimising on demand only votes on what
+  // is still pending (without the final sweep, which searches every node again on purpose).
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  SimulationOptions simulation;
+  simulation.duration_s = 90.0;
+  SessionSimulator simulator(*world, 1, simulation, 5);
+  MapperOptions options;
+  options.loop_closing.final_sweep = false;
+  Mapper mapper(options);
+  for (const auto& step : simulator.Run()) {
+    ScanInput input;
+    input.scan = step.scan;
+    input.odom_T_base = step.odom_T_base;
+    input.base_T_laser = simulator.base_T_laser();
+    mapper.AddScan(input);
+  }
+  auto alignments = [&mapper] {
+    const auto it = mapper.stats().counters.find("loop_closure_alignments");
+    return it == mapper.stats().counters.end() ? 0 : it->second;
+  };
+  const auto made = alignments();
+  ASSERT_GT(made, 0u);  // the room is revisited all the time
+  ASSERT_TRUE(mapper.OptimizeNow().ok());
+  EXPECT_EQ(alignments(), made);
+  ASSERT_TRUE(mapper.OptimizeNow().ok());
+  EXPECT_EQ(alignments(), made);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d
