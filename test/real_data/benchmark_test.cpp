@@ -9,28 +9,9 @@
 namespace longterm_mapper2d {
 namespace {
 
-using test_support::JsonNumber;
-using test_support::RunCommand;
+using test_support::MapAndEvaluate;
+using test_support::RelationErrors;
 using test_support::TempDir;
-using test_support::Tool;
-
-struct Result {
-  double mean_m = 0.0;
-  double max_m = 0.0;
-  double rotation_deg = 0.0;
-};
-
-Result MapAndEvaluate(const std::string& data, const std::string& name, const std::string& extra) {
-  const std::string trajectory = TempDir() + "/" + name + ".txt";
-  const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, name) + extra +
-                              " --trajectory " + trajectory);
-  EXPECT_EQ(run.exit_code, 0) << run.output;
-  const auto eval = RunCommand(Tool("evaluate_relations") + " --json --trajectory " + trajectory +
-                               " --relations " + data + "/" + name + "/" + name + ".relations");
-  EXPECT_EQ(eval.exit_code, 0) << eval.output;
-  return {JsonNumber(eval.output, "trans_abs_mean_m"), JsonNumber(eval.output, "trans_max_m"),
-          JsonNumber(eval.output, "rot_abs_mean_deg")};
-}
 
 // The bag's base_link -> laser transform puts the laser 0.04 m ahead of the base; the original
 // log's parameter (robot_frontlaser_offset -0.04, in the GMapping-corrected copy of that log)
@@ -45,7 +26,8 @@ TEST(RealDataBenchmark, Fr079WithTheOriginalLaserMountBeatsThePublishedResult) {
 #ifndef LTM_READS_BAGS
   GTEST_SKIP() << "needs fr079.bag (a build with the ROS layer): the CARMEN copy fails it";
 #endif
-  const Result r = MapAndEvaluate(data, "fr079", " --laser-mount -0.04,0,0");
+  const RelationErrors r =
+      MapAndEvaluate(data, "fr079", " --laser-mount -0.04,0,0", TempDir() + "/fr079.txt");
   std::printf("fr079, laser mount -0.04 m: %.4f m (max %.3f m), %.3f deg\n", r.mean_m, r.max_m,
               r.rotation_deg);
   EXPECT_LT(r.mean_m, 0.0452);
@@ -58,7 +40,7 @@ TEST(RealDataBenchmark, Fr079WithTheOriginalLaserMountBeatsThePublishedResult) {
 // within 0.04 m (0.043 without, 0.037 with; the published result is 0.0375).
 TEST(RealDataBenchmark, AcesReturnToItsStartIsClosed) {
   LTM_REQUIRE_REAL_DATA(data);
-  const Result r = MapAndEvaluate(data, "aces", "");
+  const RelationErrors r = MapAndEvaluate(data, "aces", "", TempDir() + "/aces.txt");
   std::printf("aces: %.4f m (max %.3f m), %.3f deg\n", r.mean_m, r.max_m, r.rotation_deg);
   EXPECT_LT(r.mean_m, 0.040);
   EXPECT_LT(r.max_m, 0.5);

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -32,12 +31,12 @@ inline std::string RealDataDirOrSkipReason(bool& available) {
   return "skipped: no data folder at " + dir;
 }
 
-#define LTM_REQUIRE_REAL_DATA(dir_var)                                                   \
-  std::string dir_var;                                                                   \
-  {                                                                                      \
-    bool available_ = false;                                                             \
-    dir_var = ::longterm_mapper2d::test_support::RealDataDirOrSkipReason(available_);         \
-    if (!available_) GTEST_SKIP() << dir_var;                                            \
+#define LTM_REQUIRE_REAL_DATA(dir_var)                                                \
+  std::string dir_var;                                                                \
+  {                                                                                   \
+    bool available_ = false;                                                          \
+    dir_var = ::longterm_mapper2d::test_support::RealDataDirOrSkipReason(available_); \
+    if (!available_) GTEST_SKIP() << dir_var;                                         \
   }
 
 struct CommandResult {
@@ -81,6 +80,27 @@ inline double JsonNumber(const std::string& json, const std::string& key) {
   const auto pos = json.find("\"" + key + "\":");
   if (pos == std::string::npos) return std::nan("");
   return std::strtod(json.c_str() + pos + key.size() + 3, nullptr);
+}
+
+// Relation errors of a trajectory (evaluate_relations' summary).
+struct RelationErrors {
+  double mean_m = 0.0;  // mean absolute translational error
+  double max_m = 0.0;
+  double rotation_deg = 0.0;  // mean absolute rotational error
+};
+
+// Maps a Freiburg log (intel, aces, fr079) with offline_mapper, `arguments` appended, writes the
+// trajectory to `trajectory` and evaluates it against the log's relations.
+inline RelationErrors MapAndEvaluate(const std::string& data, const std::string& name,
+                                     const std::string& arguments, const std::string& trajectory) {
+  const auto run = RunCommand(Tool("offline_mapper") + LogInput(data, name) + arguments +
+                              " --trajectory " + trajectory);
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  const auto eval = RunCommand(Tool("evaluate_relations") + " --json --trajectory " + trajectory +
+                               " --relations " + data + "/" + name + "/" + name + ".relations");
+  EXPECT_EQ(eval.exit_code, 0) << eval.output;
+  return {JsonNumber(eval.output, "trans_abs_mean_m"), JsonNumber(eval.output, "trans_max_m"),
+          JsonNumber(eval.output, "rot_abs_mean_deg")};
 }
 
 }  // namespace test_support

@@ -43,8 +43,7 @@ void Mapper::FinalClosureCheck() {
       const auto changes_before =
           stats_.counters["loop_closures_accepted"] + stats_.counters["merges"];
       SweepClosures();
-      if (stats_.counters["loop_closures_accepted"] + stats_.counters["merges"] ==
-          changes_before) {
+      if (stats_.counters["loop_closures_accepted"] + stats_.counters["merges"] == changes_before) {
         return;
       }
     }
