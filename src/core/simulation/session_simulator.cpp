@@ -137,6 +137,9 @@ std::vector<SimulatedStep> SessionSimulator::Run() {
     scan.angle_increment_rad = options_.fov_rad / (options_.beams - 1);
     if (options_.fov_rad >= 2.0 * M_PI - 1e-9)
       scan.angle_increment_rad = options_.fov_rad / options_.beams;
+    if (options_.interlaced && steps.size() % 2 == 1) {
+      scan.angle_min_rad += 0.5 * scan.angle_increment_rad;
+    }
     scan.range_min_m = 0.05;
     scan.range_max_m = options_.max_range_m;
     scan.ranges.resize(options_.beams);

@@ -1,12 +1,13 @@
 // simulate_world: simulated multi-session bags with ground truth, from a world file.
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
-#include <boost/make_shared.hpp>
 #include <rosbag/bag.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sys/stat.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <boost/make_shared.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -32,6 +33,10 @@ Options:
   --sessions N     number of sessions (default 1)
   --seed S         random seed (default 1)
   --duration S     seconds per session (default 300)
+  --beams N        laser beams over the field of view (default 271)
+  --fov-deg D      laser field of view in degrees (default 270)
+  --laser-x M      the laser this far ahead of the base (default 0.1)
+  --interlaced     every other scan starts half a beam later
   --help
 )";
 
@@ -154,6 +159,14 @@ int main(int argc, char** argv) {
       seed = std::strtoull(value().c_str(), nullptr, 10);
     } else if (arg == "--duration") {
       options.duration_s = std::atof(value().c_str());
+    } else if (arg == "--beams") {
+      options.beams = std::atoi(value().c_str());
+    } else if (arg == "--fov-deg") {
+      options.fov_rad = std::atof(value().c_str()) * M_PI / 180.0;
+    } else if (arg == "--laser-x") {
+      options.laser_x_m = std::atof(value().c_str());
+    } else if (arg == "--interlaced") {
+      options.interlaced = true;
     } else {
       std::cerr << "simulate_world: unknown option '" << arg << "'\n\n" << kUsage;
       return 2;

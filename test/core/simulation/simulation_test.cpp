@@ -106,6 +106,29 @@ TEST(SessionSimulator, IsDeterministicForASeedAndDiffersAcrossSeeds) {
   EXPECT_TRUE(differs);
 }
 
+TEST(SessionSimulator, AnInterlacedLaserStartsEveryOtherScanHalfABeamLater) {
+  const auto world = ParseWorld(kRoom);
+  ASSERT_TRUE(world.ok());
+  SimulationOptions options;
+  options.duration_s = 2.0;
+  options.beams = 181;
+  options.fov_rad = M_PI;
+  const auto plain = SessionSimulator(*world, 1, options, 7).Run();
+  options.interlaced = true;
+  const auto interlaced = SessionSimulator(*world, 1, options, 7).Run();
+  ASSERT_EQ(plain.size(), interlaced.size());
+  ASSERT_GE(plain.size(), 4u);
+  const double increment = M_PI / 180.0;
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    EXPECT_DOUBLE_EQ(plain[i].scan.angle_min_rad, -M_PI / 2.0);
+    EXPECT_DOUBLE_EQ(interlaced[i].scan.angle_min_rad,
+                     -M_PI / 2.0 + (i % 2 == 1 ? 0.5 * increment : 0.0));
+    EXPECT_DOUBLE_EQ(interlaced[i].scan.angle_increment_rad, increment);
+    // Even scans see what the plain laser sees; odd ones look between its beams.
+    if (i % 2 == 0) EXPECT_EQ(interlaced[i].scan.ranges, plain[i].scan.ranges);
+  }
+}
+
 TEST(SessionSimulator, OdometrySlipMatchesTheNoiseModel) {
   // A long straight corridor: the odometry error after driving it estimates the slip sigma.
   World world;

@@ -25,6 +25,9 @@ struct SimulationOptions {
   double max_range_m = 20.0;
   double range_noise_m = 0.01;
   double laser_x_m = 0.1;  // the laser sits this far ahead of the base
+  // Every other scan starts half a beam later (a laser that interlaces two sweeps of its
+  // resolution): consecutive scans have different angle_min.
+  bool interlaced = false;
   // Odometry noise: per step, translation scaled by N(1, slip_per_m), rotation perturbed by
   // N(0, rotation_slip * |dtheta| + rotation_per_m * |d|), plus a heading drift per metre.
   double slip_per_m = 0.02;
@@ -41,6 +44,7 @@ struct SimulationOptions {
     v("max_range_m", max_range_m);
     v("range_noise_m", range_noise_m);
     v("laser_x_m", laser_x_m);
+    v("interlaced", interlaced);
     v("slip_per_m", slip_per_m);
     v("rotation_slip", rotation_slip);
     v("rotation_per_m", rotation_per_m);
