@@ -38,14 +38,12 @@ void Mapper::FinalClosureCheck() {
     }
     if (options_.loop_closing.final_sweep) {
       OptimizeGraph(options_.optimizer.max_iterations);
-      // The sweep's closures (and merges) are optimised on acceptance; a sweep that changes
-      // nothing leaves the graph as optimised just above.
-      const auto changes_before =
-          stats_.counters["loop_closures_accepted"] + stats_.counters["merges"];
+      // Whatever the sweep changes in the graph (closures added, merges, inconsistent closures
+      // taken out) is followed by an optimisation; a sweep that ran none left the graph as
+      // optimised just above.
+      const auto optimizations_before = stats_.counters["optimizations"];
       SweepClosures();
-      if (stats_.counters["loop_closures_accepted"] + stats_.counters["merges"] == changes_before) {
-        return;
-      }
+      if (stats_.counters["optimizations"] == optimizations_before) return;
     }
   }
   OptimizeGraph(options_.optimizer.max_iterations);
