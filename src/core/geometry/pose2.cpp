@@ -74,6 +74,15 @@ Eigen::Matrix3d ComposeJacobianLeft(const Pose2& a, const Pose2& b) {
   return j;
 }
 
+Eigen::Matrix3d Adjoint(const Pose2& X) {
+  // X exp(delta) X^-1 has rotation dtheta and translation R t_delta + dtheta (t_y, -t_x).
+  Eigen::Matrix3d ad = Eigen::Matrix3d::Identity();
+  ad.topLeftCorner<2, 2>() = X.rotation();
+  ad(0, 2) = X.y();
+  ad(1, 2) = -X.x();
+  return ad;
+}
+
 Eigen::Matrix3d ComposeJacobianRight(const Pose2& a, const Pose2& /*b*/) {
   Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
   j.topLeftCorner<2, 2>() = a.rotation();

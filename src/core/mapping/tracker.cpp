@@ -18,15 +18,6 @@ Eigen::Matrix3d OdometryStepCovariance(const Pose2& step, const TrackerOptions& 
       .asDiagonal();
 }
 
-Eigen::Matrix3d Adjoint(const Pose2& X) {
-  // X exp(delta) X^-1 has rotation dtheta and translation R t_delta + dtheta (t_y, -t_x).
-  Eigen::Matrix3d ad = Eigen::Matrix3d::Identity();
-  ad.topLeftCorner<2, 2>() = X.rotation();
-  ad(0, 2) = X.y();
-  ad(1, 2) = -X.x();
-  return ad;
-}
-
 Tracker::Tracker(const MapperOptions& options)
     : options_(options),
       nicp_(options.registration),
@@ -121,12 +112,16 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
   const bool locating = mode == RegistrationMode::kLocate;
   std::optional<PosePrior> prior;
   if (options_.tracker.odometry_prior) {
-    // The prior is on the body-frame step; the solver's error lives in the tracker frame
-    // (left perturbation), so the information is carried over by the adjoint of guess^-1.
-    const Eigen::Matrix3d ad = Adjoint(guess.inverse());
-    prior = PosePrior{
-        guess,
-        ad.transpose() * OdometryStepCovariance(odometry_step, options_.tracker).inverse() * ad};
+    // The odometry model is for the step in the robot frame; with the error in the tracker frame
+    // its information is carried over by the adjoint of guess^-1.
+    const Eigen::Matrix3d step_information =
+        OdometryStepCovariance(odometry_step, options_.tracker).inverse();
+    if (options_.tracker.odometry_prior_robot_frame) {
+      prior = PosePrior{guess, step_information, true};
+    } else {
+      const Eigen::Matrix3d ad = Adjoint(guess.inverse());
+      prior = PosePrior{guess, ad.transpose() * step_information * ad, false};
+    }
   }
   ScopedStageTimer timer(stats.stage_times, "registration");
   const ProjectorGeometry geometry =

@@ -52,14 +52,24 @@ struct Accumulator {
     b.noalias() += scale * (jt_omega_p * e_p + w_n * j_n.transpose() * e_n);
   }
 
-  // Prior on T: e_o = t2v(T * mean^-1); for the left perturbation,
+  // Prior on T, in the reference frame: e_o = t2v(T * mean^-1); for the left perturbation,
   //   de_o/ddelta = [[1, 0, -e_y], [0, 1, e_x], [0, 0, 1]].
+  // In the robot frame: E = mean^-1 * T, e_o = t2v(E). With exp(delta) T = T exp(Ad(T^-1) delta)
+  // and t2v(E exp(eps)) = (t_E + R_E eps_t, theta_E + eps_theta),
+  //   de_o/ddelta = blockdiag(R_E, 1) * Ad(T^-1),  Ad as in pose2.h.
   void AddPrior(const Pose2& T, const PosePrior& prior) {
-    const Pose2 error = T * prior.reference_T_current.inverse();
+    const Pose2 error = prior.robot_frame ? prior.reference_T_current.inverse() * T
+                                          : T * prior.reference_T_current.inverse();
     const Eigen::Vector3d e = error.vector();
     Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
-    j(0, 2) = -e.y();
-    j(1, 2) = e.x();
+    if (prior.robot_frame) {
+      Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
+      rotate.topLeftCorner<2, 2>() = error.rotation();
+      j = rotate * Adjoint(T.inverse());
+    } else {
+      j(0, 2) = -e.y();
+      j(1, 2) = e.x();
+    }
     H.noalias() += j.transpose() * prior.information * j;
     b.noalias() += j.transpose() * prior.information * e;
     chi2 += e.dot(prior.information * e);

@@ -64,5 +64,19 @@ TEST(Pose2, ComposeJacobiansMatchNumericalDerivatives) {
   }
 }
 
+TEST(Pose2, AdjointMovesAPerturbationAcrossAPose) {
+  // X exp(delta) X^-1 = exp(Adjoint(X) delta), checked by finite differences far from the origin.
+  const Pose2 X(350.0, -120.0, 2.2);
+  const double h = 1e-6;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    d[k] = h;
+    const Eigen::Vector3d numeric = ((X * Pose2::FromVector(d) * X.inverse()).vector() -
+                                     (X * Pose2::FromVector(-d) * X.inverse()).vector()) /
+                                    (2 * h);
+    EXPECT_TRUE(numeric.isApprox(Adjoint(X).col(k), 1e-4)) << k << "\n" << numeric;
+  }
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

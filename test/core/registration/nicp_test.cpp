@@ -34,8 +34,8 @@ TEST(Nicp, RecoversAKnownOffsetOnCleanData) {
   const Scene s = MakeSetup(test_support::IrregularRoom(), truth, 0.0);
   Nicp nicp(RegistrationOptions{});
   const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
-  const auto result = nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry,
-                                           std::nullopt);
+  const auto result =
+      nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry, std::nullopt);
   ASSERT_TRUE(result.solved);
   EXPECT_TRUE(result.validation.accepted);
   EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
@@ -48,8 +48,8 @@ TEST(Nicp, RecoversAKnownOffsetWithCentimetreNoise) {
   const Scene s = MakeSetup(test_support::IrregularRoom(), truth, 0.01);
   Nicp nicp(RegistrationOptions{});
   const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
-  const auto result = nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry,
-                                           std::nullopt);
+  const auto result =
+      nicp.AlignProjective(s.reference, s.current, Pose2(), Pose2(), geometry, std::nullopt);
   ASSERT_TRUE(result.validation.accepted);
   EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 0.01);
   EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 0.005);
@@ -62,9 +62,9 @@ TEST(Nicp, NearestNeighbourAlignsWithALargeRotationError) {
   options.max_correspondence_distance_m = 1.0;
   options.max_normal_angle_rad = 0.8;
   Nicp nicp(options);
-  const auto result = nicp.AlignNearestNeighbour(s.reference, s.current, Pose2(), 
-                                                 ProjectorGeometry::FullCircle(720, 30.0), Pose2(),
-                                                 std::nullopt);
+  const auto result =
+      nicp.AlignNearestNeighbour(s.reference, s.current, Pose2(),
+                                 ProjectorGeometry::FullCircle(720, 30.0), Pose2(), std::nullopt);
   EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
   EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 1e-4);
   EXPECT_TRUE(result.validation.accepted);
@@ -81,13 +81,79 @@ TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {
   PosePrior prior{odometry, Eigen::Vector3d(100.0, 100.0, 400.0).asDiagonal()};
   Nicp nicp(RegistrationOptions{});
   const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
-  const auto result = nicp.AlignProjective(s.reference, s.current, odometry, Pose2(), geometry, prior);
+  const auto result =
+      nicp.AlignProjective(s.reference, s.current, odometry, Pose2(), geometry, prior);
   ASSERT_TRUE(result.solved);
   EXPECT_NEAR(result.reference_T_current.x(), odometry.x(), 0.02);
   EXPECT_NEAR(result.reference_T_current.y(), truth.y(), 0.01);
   EXPECT_NEAR(result.reference_T_current.theta(), truth.theta(), 0.005);
   // The information says so: little along x, much across.
   EXPECT_LT(result.information(0, 0), 0.01 * result.information(1, 1));
+}
+
+TEST(Nicp, ARobotFramePriorDoesNotDependOnWhereTheReferenceOriginIs) {
+  // The corridor above, odometry off in x and in heading, solved once as it is and once with
+  // everything moved 500 m away and turned (a tracker frame far from the odometry origin). In the
+  // robot frame the prior gives the same answer both times; in the reference frame its second
+  // order term |t| dtheta^2 / 2 moves it (7.8 cm, 0.75 deg here).
+  const Pose2 truth(1.0, 0.1, 0.02);
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;
+  const Scene s = MakeSetup(test_support::Corridor(), truth, 0.0, laser);
+  const Pose2 odometry(0.7, 0.0, -0.03);
+  const Eigen::Matrix3d body_information = Eigen::Vector3d(100.0, 100.0, 400.0).asDiagonal();
+  const Pose2 far(400.0, -300.0, 0.7);
+  Cloud far_reference = s.reference;
+  for (RichPoint& p : far_reference) {
+    p.point_m = far * p.point_m;
+    p.normal = far.rotation() * p.normal;
+  }
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  auto solve = [&](const Cloud& reference, const Pose2& frame, bool robot_frame) {
+    const Pose2 guess = frame * odometry;
+    // The reference-frame form carries the body information over by the adjoint of guess^-1.
+    const Eigen::Matrix3d ad = Adjoint(guess.inverse());
+    const PosePrior prior{
+        guess,
+        robot_frame ? body_information : Eigen::Matrix3d(ad.transpose() * body_information * ad),
+        robot_frame};
+    const auto result = nicp.AlignProjective(reference, s.current, guess, Pose2(), geometry, prior);
+    EXPECT_TRUE(result.solved);
+    return frame.inverse() * result.reference_T_current;
+  };
+  const Pose2 near_robot = solve(s.reference, Pose2(), true);
+  const Pose2 far_robot = solve(far_reference, far, true);
+  // What is left (1.1 mm, 2 mrad here) is the damping, applied in the reference frame's
+  // coordinates: far from the origin it slows the turn's convergence.
+  EXPECT_LT((near_robot.translation() - far_robot.translation()).norm(), 0.005);
+  EXPECT_LT(std::abs(NormalizeAngle(near_robot.theta() - far_robot.theta())), 0.005);
+  EXPECT_NEAR(near_robot.y(), truth.y(), 0.01);
+  EXPECT_NEAR(near_robot.theta(), truth.theta(), 0.005);
+  // Near the origin both forms agree; far from it the reference-frame form moves the answer.
+  const Pose2 near_reference = solve(s.reference, Pose2(), false);
+  const Pose2 far_reference_frame = solve(far_reference, far, false);
+  EXPECT_LT((near_reference.translation() - near_robot.translation()).norm(), 0.01);
+  EXPECT_GT((far_reference_frame.translation() - near_robot.translation()).norm(), 0.05);
+}
+
+TEST(Nicp, RobotFramePriorJacobianMatchesNumericalDerivatives) {
+  // d t2v(mean^-1 exp(delta) T) / d delta = blockdiag(R_E, 1) Ad(T^-1), E = mean^-1 T.
+  const Pose2 mean(30.0, -12.0, 1.1);
+  const Pose2 T(30.3, -11.8, 1.25);
+  auto error = [&](const Pose2& X) { return (mean.inverse() * X).vector(); };
+  const Pose2 E = mean.inverse() * T;
+  Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
+  rotate.topLeftCorner<2, 2>() = E.rotation();
+  const Eigen::Matrix3d analytic = rotate * Adjoint(T.inverse());
+  const double h = 1e-6;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d d = Eigen::Vector3d::Zero();
+    d[k] = h;
+    const Eigen::Vector3d numeric =
+        (error(Pose2::FromVector(d) * T) - error(Pose2::FromVector(-d) * T)) / (2 * h);
+    EXPECT_TRUE(numeric.isApprox(analytic.col(k), 1e-5)) << k << "\n" << numeric;
+  }
 }
 
 TEST(Nicp, JacobianMatchesNumericalDerivatives) {

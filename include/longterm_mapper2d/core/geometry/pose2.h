@@ -60,6 +60,10 @@ Pose2 Interpolate(const Pose2& a, const Pose2& b, double t);
 Eigen::Matrix3d ComposeJacobianLeft(const Pose2& a, const Pose2& b);
 Eigen::Matrix3d ComposeJacobianRight(const Pose2& a, const Pose2& b);
 
+// SE(2) adjoint: X exp(delta) X^-1 = exp(Adjoint(X) delta) for delta = (dx, dy, dtheta), exp(delta)
+// being Pose2(dx, dy, dtheta) to first order.
+Eigen::Matrix3d Adjoint(const Pose2& X);
+
 // A pose with a timestamp in seconds.
 struct StampedPose2 {
   double stamp_s = 0.0;

@@ -24,9 +24,6 @@ struct TrackResult {
 // Odometry noise of one step, as a covariance in the robot frame (TrackerOptions' model).
 Eigen::Matrix3d OdometryStepCovariance(const Pose2& step, const TrackerOptions& options);
 
-// SE(2) adjoint: X exp(delta) X^-1 = exp(Adjoint(X) delta) for delta = (dx, dy, dtheta).
-Eigen::Matrix3d Adjoint(const Pose2& X);
-
 // Scan-to-local-map tracking (ALGORITHMS.md §4.1): each scan is registered against a local map
 // kept in the tracker's own frame, with odometry as prior; accepted scans are merged into the map
 // with the free-space rules; a rejected registration resets the local map to the scan and dead

@@ -13,10 +13,14 @@
 namespace longterm_mapper2d {
 
 // A Gaussian belief on reference_T_current (e.g. from odometry). The information matrix is for the
-// error t2v(T * mean^-1), i.e. translation expressed in the reference frame.
+// error t2v(T * mean^-1), translation expressed in the reference frame, or with robot_frame for
+// t2v(mean^-1 * T), in the current frame. The two agree to first order; the first has a second
+// order term |t| dtheta^2 / 2 that grows with the distance t of the mean from the reference
+// frame's origin (an odometry frame hundreds of metres away bends every turn towards the prior's).
 struct PosePrior {
   Pose2 reference_T_current;
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  bool robot_frame = false;
 };
 
 struct RegistrationValidation {
