@@ -89,7 +89,7 @@ Eigen::Matrix3d LoopCloser::ClosureInformation() const {
 
 std::vector<GraphNodeId> LoopCloser::Candidates(
     const PoseGraph& graph, GraphNodeId node, bool sweep, MapperStats& stats,
-    std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const {
+    std::map<GraphNodeId, Marginal>* gated_marginals) const {
   const Pose2& pose = graph.node(node).pose;
   // Along odometry edges only: nodes that a closure or a merge joined are still candidates, so a
   // revisited place keeps finding its old local maps and merging them. The sweep looks only for
@@ -125,7 +125,7 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
                               1e-6 * Eigen::Matrix2d::Identity();
     if (cropped.dot(P.inverse() * cropped) <= options_.mahalanobis_gate) {
       gated.push_back(id);
-      if (offset_covariance) (*offset_covariance)[id] = P;
+      if (gated_marginals) (*gated_marginals)[id] = {P, marginals->at(id)(2, 2)};
     }
   }
   return gated;
@@ -180,9 +180,8 @@ void LoopCloser::SweepFrom(const PoseGraph& graph, GraphNodeId node, const Cloud
 void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
                         MapperStats& stats, bool heading_in_doubt, bool sweep) {
   if (!options_.enabled || !graph.HasNode(node)) return;
-  std::map<GraphNodeId, Eigen::Matrix2d> offset_covariance;
-  const std::vector<GraphNodeId> candidates =
-      Candidates(graph, node, sweep, stats, &offset_covariance);
+  std::map<GraphNodeId, Marginal> marginals;
+  const std::vector<GraphNodeId> candidates = Candidates(graph, node, sweep, stats, &marginals);
   // Waiting loops the graph has drifted away from are tried from this node too, where they put it.
   const std::map<GraphNodeId, std::vector<Pose2>> predicted = PredictFromWaiting(graph, node);
   if (candidates.empty() && predicted.empty()) return;
@@ -283,7 +282,7 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
     if (prediction == predicted.end()) continue;
     // An old node only a prediction reaches is tried where the prediction puts it, not where the
     // drifted graph does.
-    if (!offset_covariance.count(olds[k])) guesses[k].clear();
+    if (!marginals.count(olds[k])) guesses[k].clear();
     guesses[k].insert(guesses[k].end(), prediction->second.begin(), prediction->second.end());
   }
   try_in_rounds(guesses);
@@ -309,9 +308,34 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
     try_in_rounds(guesses);
   }
 
+  // The old maps no guess aligned, from a graph guess too uncertain for the alignment's basin:
+  // a correlative search over the marginal's window, then the alignment from its best pose.
+  std::vector<bool> correlative(olds.size(), false);
+  if (options_.correlative_search && !sweep) {
+    std::vector<std::size_t> searching;
+    std::vector<CorrelativeRequest> requests;
+    for (std::size_t k = 0; k < olds.size(); ++k) {
+      const auto marginal = marginals.find(olds[k]);
+      if (outcomes[k].pose || outcomes[k].degenerate || marginal == marginals.end()) continue;
+      auto request = CorrelativeWindow(marginal->second, graph_guesses[k]);
+      if (!request) continue;
+      request->current = &cloud_of(olds[k]);
+      searching.push_back(k);
+      requests.push_back(*request);
+    }
+    const std::vector<Attempt> attempts = AlignCorrelative(cloud_of(node), requests, stats);
+    for (std::size_t i = 0; i < searching.size(); ++i) {
+      Outcome& outcome = outcomes[searching[i]];
+      outcome.degenerate |= attempts[i].degenerate;
+      outcome.pose = attempts[i].pose;
+      correlative[searching[i]] = attempts[i].pose.has_value();
+    }
+  }
+
   for (std::size_t k = 0; k < olds.size(); ++k) {
     ++stats.counters["loop_closure_alignments"];
     if (turned[k]) ++stats.counters["loop_closure_alignments_turned"];
+    if (correlative[k]) ++stats.counters["loop_closure_alignments_correlative"];
     if (!outcomes[k].pose) {
       if (outcomes[k].degenerate) ++stats.counters["loop_closure_alignments_degenerate"];
       continue;
@@ -335,8 +359,8 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
       continue;
     }
     // Nodes only a prediction reached have no marginal here: the vote judges them.
-    if (options_.innovation_gate > 0.0 && offset_covariance.count(olds[k])) {
-      const Eigen::Matrix2d S = offset_covariance.at(olds[k]) +
+    if (options_.innovation_gate > 0.0 && marginals.count(olds[k])) {
+      const Eigen::Matrix2d S = marginals.at(olds[k]).offset_covariance +
                                 Eigen::Matrix2d::Identity() / options_.closure_information_xy;
       const double chi2 = innovation.dot(S.inverse() * innovation);
       if (chi2 > options_.innovation_gate) {

@@ -63,9 +63,7 @@ struct Accumulator {
     const Eigen::Vector3d e = error.vector();
     Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
     if (prior.robot_frame) {
-      Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
-      rotate.topLeftCorner<2, 2>() = error.rotation();
-      j = rotate * Adjoint(T.inverse());
+      j = ComposeJacobianRight(error, Pose2()) * Adjoint(T.inverse());  // blockdiag(R_E, 1) Ad
     } else {
       j(0, 2) = -e.y();
       j(1, 2) = e.x();

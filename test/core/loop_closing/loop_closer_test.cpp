@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -106,6 +107,68 @@ TEST(LoopCloser, AfterATrackerFailureATurnedNodeIsStillAligned) {
   LoopCloser plain(off, RegistrationOptions{});
   plain.SearchFrom(graph, 1, cloud_of, stats, true);
   EXPECT_TRUE(plain.buffer().empty());
+}
+
+TEST(LoopCloser, ARevisitBeyondTheAlignmentsBasinIsFoundByTheCorrelativeSearch) {
+  // The graph has the new node 2.2 m and 0.15 rad from where its cloud was taken (drift along a
+  // long chain, loose enough for the candidate gate): the alignment fails from the graph's guess
+  // and from the heading alone; the correlative search over the marginal's window finds the
+  // place, and the alignment from there the truth.
+  const auto room = test_support::IrregularRoom();
+  const Pose2 old_pose(-3.0, -1.0, 0.0), new_truth(2.5, 1.5, 0.3);
+  const Pose2 new_in_graph = Pose2(1.8, -1.2, 0.0) * new_truth * Pose2(0.0, 0.0, 0.15);
+  const PoseGraph graph =
+      OdometryGraph({{0, old_pose}, {1, new_in_graph}, {2, Pose2(0.0, 20.0, 0.0)}},
+                    {{0, 2}, {2, 1}}, Eigen::Vector3d(0.2, 0.2, 100.0));
+  const std::map<GraphNodeId, Cloud> clouds = {{0, CloudAt(room, old_pose, 8)},
+                                               {1, CloudAt(room, new_truth, 8)}};
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  MapperStats stats;
+  LoopCloser plain(LoopClosingOptions{}, RegistrationOptions{});  // off by default
+  plain.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_TRUE(plain.buffer().empty());
+  ASSERT_EQ(stats.counters["loop_closure_alignments"], 1u);  // it was a candidate
+  LoopClosingOptions on;
+  on.correlative_search = true;
+  LoopCloser searching(on, RegistrationOptions{});
+  searching.SearchFrom(graph, 1, cloud_of, stats, false);
+  ASSERT_EQ(searching.buffer().size(), 1u);
+  const Pose2 truth = new_truth.Between(old_pose);
+  const Pose2& found = searching.buffer().front().local_T_old;
+  EXPECT_LT((found.translation() - truth.translation()).norm(), 0.02);
+  EXPECT_LT(std::abs(NormalizeAngle(found.theta() - truth.theta())), 0.01);
+  EXPECT_EQ(stats.counters["loop_closure_correlative_searches"], 1u);
+  EXPECT_EQ(stats.counters["loop_closure_alignments_correlative"], 1u);
+  // A window narrower than the offset does not reach it.
+  LoopClosingOptions narrow = on;
+  narrow.correlative_max_window_m = 1.0;
+  LoopCloser short_reach(narrow, RegistrationOptions{});
+  short_reach.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_TRUE(short_reach.buffer().empty());
+}
+
+TEST(LoopCloser, CorrelativeSearchOptionsAreValidated) {
+  auto errors_of = [](const LoopClosingOptions& options) {
+    OptionErrors errors;
+    options.Validate(errors);
+    return errors.ToString();
+  };
+  EXPECT_EQ(errors_of(LoopClosingOptions{}), "");
+  LoopClosingOptions options;
+  options.correlative_max_window_m = 0.0;
+  EXPECT_NE(errors_of(options).find("correlative_max_window_m"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.correlative_min_window_rad = 0.6;  // above the maximum, 0.5
+  EXPECT_NE(errors_of(options).find("correlative_max_window_rad"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.correlative_min_score = 1.5;
+  EXPECT_NE(errors_of(options).find("correlative_min_score"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.correlative_resolution_m = 0.0;
+  EXPECT_NE(errors_of(options).find("correlative_resolution_m"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.correlative_window_sigmas = -1.0;
+  EXPECT_NE(errors_of(options).find("correlative_window_sigmas"), std::string::npos);
 }
 
 TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {

@@ -143,9 +143,7 @@ TEST(Nicp, RobotFramePriorJacobianMatchesNumericalDerivatives) {
   const Pose2 T(30.3, -11.8, 1.25);
   auto error = [&](const Pose2& X) { return (mean.inverse() * X).vector(); };
   const Pose2 E = mean.inverse() * T;
-  Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
-  rotate.topLeftCorner<2, 2>() = E.rotation();
-  const Eigen::Matrix3d analytic = rotate * Adjoint(T.inverse());
+  const Eigen::Matrix3d analytic = ComposeJacobianRight(E, Pose2()) * Adjoint(T.inverse());
   const double h = 1e-6;
   for (int k = 0; k < 3; ++k) {
     Eigen::Vector3d d = Eigen::Vector3d::Zero();

@@ -78,14 +78,36 @@ class LoopCloser {
     bool degenerate = false;
   };
   Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
+  // What the Mahalanobis gate knew of a candidate: the covariance of the new node's position
+  // seen from it (in its frame) and the variance of their relative heading.
+  struct Marginal {
+    Eigen::Matrix2d offset_covariance = Eigen::Matrix2d::Identity();
+    double heading_variance = 0.0;
+  };
+  // One old map for the correlative search: the graph's new_T_old and the search window.
+  struct CorrelativeRequest {
+    const Cloud* current = nullptr;
+    Pose2 guess;
+    double window_m = 0.0;
+    double window_rad = 0.0;
+  };
+  // The search window for a candidate with this marginal, or nullopt when it is too narrow to
+  // need a search (LoopClosingOptions::correlative_*).
+  std::optional<CorrelativeRequest> CorrelativeWindow(const Marginal& marginal,
+                                                      const Pose2& guess) const;
+  // Correlative search then alignment for each request against `reference` (the new node's
+  // cloud), side by side on the alignment threads: the validated poses, in request order.
+  std::vector<Attempt> AlignCorrelative(const Cloud& reference,
+                                        const std::vector<CorrelativeRequest>& requests,
+                                        MapperStats& stats) const;
   // SearchFrom (`sweep` false) and SweepFrom (true).
   void Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of, MapperStats& stats,
               bool heading_in_doubt, bool sweep);
-  // The gated candidates, and for each the covariance of the new node's position seen from it
-  // (in its frame) that the gate used. `sweep`: older nodes not tied closely by the graph only.
-  std::vector<GraphNodeId> Candidates(
-      const PoseGraph& graph, GraphNodeId node, bool sweep, MapperStats& stats,
-      std::map<GraphNodeId, Eigen::Matrix2d>* offset_covariance) const;
+  // The gated candidates, and for each the marginal the gate used. `sweep`: older nodes not tied
+  // closely by the graph only.
+  std::vector<GraphNodeId> Candidates(const PoseGraph& graph, GraphNodeId node, bool sweep,
+                                      MapperStats& stats,
+                                      std::map<GraphNodeId, Marginal>* gated_marginals) const;
   Eigen::Matrix3d ClosureInformation() const;
   // One vote among the buffered candidates with this `on_chain` (nullopt: all of them).
   void VoteWithin(const PoseGraph& graph, std::optional<bool> on_chain,
