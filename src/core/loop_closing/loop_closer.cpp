@@ -238,10 +238,6 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
   // that validates wins, as when one thread tries them in turn. The old maps still unsettled run
   // side by side on the alignment threads, one guess each per round (no guess is tried that the
   // sequential order would have skipped).
-  struct Outcome {
-    std::optional<Pose2> pose;
-    bool degenerate = false;  // some guess tried was refused as degenerate
-  };
   std::vector<Outcome> outcomes(olds.size());
   auto try_in_rounds = [&](const std::vector<std::vector<Pose2>>& guesses) {
     std::vector<std::size_t> open(olds.size());
@@ -310,27 +306,11 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
 
   // The old maps no guess aligned, from a graph guess too uncertain for the alignment's basin:
   // a correlative search over the marginal's window, then the alignment from its best pose.
-  std::vector<bool> correlative(olds.size(), false);
-  if (options_.correlative_search && !sweep) {
-    std::vector<std::size_t> searching;
-    std::vector<CorrelativeRequest> requests;
-    for (std::size_t k = 0; k < olds.size(); ++k) {
-      const auto marginal = marginals.find(olds[k]);
-      if (outcomes[k].pose || outcomes[k].degenerate || marginal == marginals.end()) continue;
-      auto request = CorrelativeWindow(marginal->second, graph_guesses[k]);
-      if (!request) continue;
-      request->current = &cloud_of(olds[k]);
-      searching.push_back(k);
-      requests.push_back(*request);
-    }
-    const std::vector<Attempt> attempts = AlignCorrelative(cloud_of(node), requests, stats);
-    for (std::size_t i = 0; i < searching.size(); ++i) {
-      Outcome& outcome = outcomes[searching[i]];
-      outcome.degenerate |= attempts[i].degenerate;
-      outcome.pose = attempts[i].pose;
-      correlative[searching[i]] = attempts[i].pose.has_value();
-    }
-  }
+  const std::vector<bool> correlative =
+      options_.correlative_search && !sweep
+          ? SearchCorrelative(cloud_of(node), olds, graph_guesses, marginals, cloud_of, outcomes,
+                              stats)
+          : std::vector<bool>(olds.size(), false);
 
   for (std::size_t k = 0; k < olds.size(); ++k) {
     ++stats.counters["loop_closure_alignments"];

@@ -39,6 +39,8 @@ std::vector<LoopCloser::Attempt> LoopCloser::AlignCorrelative(
   ScopedStageTimer timer(stats.stage_times, "loop_closing_correlative");
   CorrelativeMatcherOptions options;
   options.resolution_m = options_.correlative_resolution_m;
+  // One cell is also the kernel's sigma: the grid cannot represent a narrower peak, and a wider
+  // one blurs the walls the search has to tell apart.
   options.kernel_sigma_m = options_.correlative_resolution_m;
   options.min_score = options_.correlative_min_score;
   // One likelihood grid of the new map serves every old map.
@@ -56,6 +58,34 @@ std::vector<LoopCloser::Attempt> LoopCloser::AlignCorrelative(
   stats.counters["loop_closure_correlative_matches"] +=
       static_cast<std::uint64_t>(std::count(matched.begin(), matched.end(), 1));
   return attempts;
+}
+
+std::vector<bool> LoopCloser::SearchCorrelative(
+    const Cloud& reference, const std::vector<GraphNodeId>& olds,
+    const std::vector<Pose2>& graph_guesses, const std::map<GraphNodeId, Marginal>& marginals,
+    const CloudOf& cloud_of, std::vector<Outcome>& outcomes, MapperStats& stats) const {
+  std::vector<bool> correlative(olds.size(), false);
+  std::vector<std::size_t> searching;
+  std::vector<CorrelativeRequest> requests;
+  for (std::size_t k = 0; k < olds.size(); ++k) {
+    // Only the maps no guess aligned, for a reason other than degenerate geometry (a search
+    // cannot pin a corridor either), and that the Mahalanobis gate gave a window.
+    const auto marginal = marginals.find(olds[k]);
+    if (outcomes[k].pose || outcomes[k].degenerate || marginal == marginals.end()) continue;
+    auto request = CorrelativeWindow(marginal->second, graph_guesses[k]);
+    if (!request) continue;
+    request->current = &cloud_of(olds[k]);
+    searching.push_back(k);
+    requests.push_back(*request);
+  }
+  const std::vector<Attempt> attempts = AlignCorrelative(reference, requests, stats);
+  for (std::size_t i = 0; i < searching.size(); ++i) {
+    Outcome& outcome = outcomes[searching[i]];
+    outcome.degenerate |= attempts[i].degenerate;
+    outcome.pose = attempts[i].pose;
+    correlative[searching[i]] = attempts[i].pose.has_value();
+  }
+  return correlative;
 }
 
 }  // namespace longterm_mapper2d

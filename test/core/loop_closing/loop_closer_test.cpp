@@ -158,6 +158,9 @@ TEST(LoopCloser, CorrelativeSearchOptionsAreValidated) {
   options.correlative_max_window_m = 0.0;
   EXPECT_NE(errors_of(options).find("correlative_max_window_m"), std::string::npos);
   options = LoopClosingOptions{};
+  options.correlative_min_window_m = 6.0;  // above the maximum, 5
+  EXPECT_NE(errors_of(options).find("correlative_max_window_m"), std::string::npos);
+  options = LoopClosingOptions{};
   options.correlative_min_window_rad = 0.6;  // above the maximum, 0.5
   EXPECT_NE(errors_of(options).find("correlative_max_window_rad"), std::string::npos);
   options = LoopClosingOptions{};

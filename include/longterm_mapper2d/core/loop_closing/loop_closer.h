@@ -84,6 +84,11 @@ class LoopCloser {
     Eigen::Matrix2d offset_covariance = Eigen::Matrix2d::Identity();
     double heading_variance = 0.0;
   };
+  // What the guesses tried for one old map gave.
+  struct Outcome {
+    std::optional<Pose2> pose;
+    bool degenerate = false;  // some guess tried was refused as degenerate
+  };
   // One old map for the correlative search: the graph's new_T_old and the search window.
   struct CorrelativeRequest {
     const Cloud* current = nullptr;
@@ -100,6 +105,13 @@ class LoopCloser {
   std::vector<Attempt> AlignCorrelative(const Cloud& reference,
                                         const std::vector<CorrelativeRequest>& requests,
                                         MapperStats& stats) const;
+  // The correlative search for the old maps (`olds`, with the graph's new_T_old guesses) whose
+  // outcome has no pose yet: writes the validated poses into `outcomes`; true where it did.
+  std::vector<bool> SearchCorrelative(const Cloud& reference, const std::vector<GraphNodeId>& olds,
+                                      const std::vector<Pose2>& graph_guesses,
+                                      const std::map<GraphNodeId, Marginal>& marginals,
+                                      const CloudOf& cloud_of, std::vector<Outcome>& outcomes,
+                                      MapperStats& stats) const;
   // SearchFrom (`sweep` false) and SweepFrom (true).
   void Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of, MapperStats& stats,
               bool heading_in_doubt, bool sweep);

@@ -65,6 +65,8 @@ struct LoopClosingOptions {
   // starts again from there. Only windows wider than correlative_min_window_m: within it the
   // alignment's own basin (coarse_correspondence_m) reaches. Best poses scoring below
   // correlative_min_score (mean likelihood of the old map's points, 0..1) are not tried.
+  // correlative_resolution_m is the likelihood grid's cell, the translation step and the
+  // likelihood kernel's sigma.
   // Why: the graph's guess of a loop after a long stretch is metres off (drift), beyond NICP's
   // basin; the gates and the vote judge what the search finds like any other alignment.
   // Off: on the Freiburg logs the alignments that fail mostly fail validation, not the basin
@@ -211,9 +213,11 @@ struct LoopClosingOptions {
               "recovery_heading_step_rad", "must be in (0, 1.6]");
     e.Require(correlative_window_sigmas > 0.0, "correlative_window_sigmas", "must be positive");
     e.Require(correlative_min_window_m >= 0.0 && correlative_max_window_m > 0.0 &&
+                  correlative_max_window_m >= correlative_min_window_m &&
                   correlative_max_window_m <= 20.0,
               "correlative_max_window_m",
-              "the correlative window must be in (0, 20] m, its minimum non-negative");
+              "the correlative window must be in [correlative_min_window_m, 20] m, its minimum "
+              "non-negative");
     e.Require(correlative_min_window_rad >= 0.0 &&
                   correlative_max_window_rad >= correlative_min_window_rad &&
                   correlative_max_window_rad <= 3.2,
