@@ -6,7 +6,6 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <queue>
 #include <set>
 
 #include "longterm_mapper2d/core/common/parallel_for.h"
@@ -19,54 +18,7 @@ double Shrink(double value, double by) {
   return value > by ? value - by : (value < -by ? value + by : 0.0);
 }
 
-// Shortest path lengths from `source` over the edges `use` admits, within `limit`.
-template <class EdgeFilter>
-std::map<GraphNodeId, double> PathLengths(const PoseGraph& graph, GraphNodeId source, double limit,
-                                          const EdgeFilter& use) {
-  std::map<GraphNodeId, std::vector<GraphNodeId>> adjacency;
-  for (const GraphEdge& e : graph.edges()) {
-    if (!use(e)) continue;
-    adjacency[e.from].push_back(e.to);
-    adjacency[e.to].push_back(e.from);
-  }
-  std::map<GraphNodeId, double> distance{{source, 0.0}};
-  using Entry = std::pair<double, GraphNodeId>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  queue.emplace(0.0, source);
-  while (!queue.empty()) {
-    const auto [d, id] = queue.top();
-    queue.pop();
-    if (d > distance[id]) continue;
-    for (GraphNodeId next : adjacency[id]) {
-      const double nd =
-          d + (graph.node(next).pose.translation() - graph.node(id).pose.translation()).norm();
-      if (nd > limit) continue;
-      auto it = distance.find(next);
-      if (it == distance.end() || nd < it->second) {
-        distance[next] = nd;
-        queue.emplace(nd, next);
-      }
-    }
-  }
-  return distance;
-}
-
 }  // namespace
-
-std::map<GraphNodeId, double> OdometryPathLengths(const PoseGraph& graph, GraphNodeId source,
-                                                  double limit, bool tracker_chain_only) {
-  const int session = graph.node(source).session_id;
-  return PathLengths(graph, source, limit, [&](const GraphEdge& e) {
-    return e.kind == EdgeKind::kOdometry &&
-           (!tracker_chain_only ||
-            (graph.node(e.from).session_id == session && graph.node(e.to).session_id == session));
-  });
-}
-
-std::map<GraphNodeId, double> GraphPathLengths(const PoseGraph& graph, GraphNodeId source,
-                                               double limit) {
-  return PathLengths(graph, source, limit, [](const GraphEdge&) { return true; });
-}
 
 LoopCloser::LoopCloser(const LoopClosingOptions& options, const RegistrationOptions& registration)
     : options_(options), coarse_(registration), fine_(registration) {
@@ -131,6 +83,17 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
   return gated;
 }
 
+bool LoopCloser::Validates(const RegistrationValidation& v) const {
+  if (v.accepted) return true;
+  if (!options_.partial_overlap || v.correspondences < options_.min_correspondences ||
+      v.inlier_ratio < options_.partial_min_inlier_ratio) {
+    return false;
+  }
+  // Old surfaces hidden behind the new map's are not evidence either way; old surfaces in
+  // front of it, where the new map sees through, are.
+  return v.inliers >= options_.partial_min_agreement * (v.inliers + v.in_front);
+}
+
 LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& current,
                                           const Pose2& guess) const {
   const ProjectorGeometry geometry = ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
@@ -141,7 +104,7 @@ LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& c
   if (!first.solved) return attempt;
   const RegistrationResult second = fine.AlignNearestNeighbour(
       reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
-  if (!second.solved || !second.validation.accepted || !second.reference_T_current.IsFinite()) {
+  if (!second.solved || !Validates(second.validation) || !second.reference_T_current.IsFinite()) {
     return attempt;
   }
   // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it.

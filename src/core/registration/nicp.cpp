@@ -209,9 +209,11 @@ RegistrationValidation Nicp::CompareWithReferenceImage(const Cloud& current,
   for (int bin = 0; bin < geometry.num_bins; ++bin) {
     if (reference_image_.indices[bin] < 0 || current_image_.indices[bin] < 0) continue;
     ++v.correspondences;
-    if (std::abs(reference_image_.ranges_m[bin] - current_image_.ranges_m[bin]) <
-        options_.inlier_distance_m) {
+    const double difference_m = current_image_.ranges_m[bin] - reference_image_.ranges_m[bin];
+    if (std::abs(difference_m) < options_.inlier_distance_m) {
       ++v.inliers;
+    } else if (difference_m < 0.0) {
+      ++v.in_front;
     }
   }
   v.inlier_ratio = v.correspondences > 0 ? static_cast<double>(v.inliers) / v.correspondences : 0.0;

@@ -64,6 +64,58 @@ TEST(LoopCloser, ASymmetricCorridorGivesNoClosure) {
   EXPECT_FALSE(aligned.has_value());
 }
 
+// The room as the new node sees it: cabinets now stand 1.2 m in front of three of its walls, so
+// from the new node most of what an old map of the room holds lies hidden behind them.
+std::vector<Segment> RoomWithCabinets() {
+  auto room = test_support::IrregularRoom();
+  room.push_back({Eigen::Vector2d(-3.8, -1.8), Eigen::Vector2d(3.5, -1.8)});
+  room.push_back({Eigen::Vector2d(3.8, -0.5), Eigen::Vector2d(3.8, 2.8)});
+  room.push_back({Eigen::Vector2d(-3.8, -0.8), Eigen::Vector2d(-3.8, 2.8)});
+  return room;
+}
+
+TEST(LoopCloser, AnOldMapHiddenInPartBehindTheNewOneStillAligns) {
+  const Pose2 a(-1.0, 0.5, 0.0), b(1.2, 0.6, 0.5);
+  const Pose2 truth = a.Between(b);
+  const Cloud old_map = CloudAt(test_support::IrregularRoom(), a, 20);
+  const Cloud new_map = CloudAt(RoomWithCabinets(), b, 20);
+  const Pose2 guess = truth * Pose2(0.3, -0.2, 0.08);
+  LoopClosingOptions options;
+  options.partial_overlap = true;
+  LoopCloser closer(options, RegistrationOptions{});
+  const auto aligned = closer.AlignLocalMaps(new_map, old_map, {guess.inverse()});
+  ASSERT_TRUE(aligned.has_value());
+  EXPECT_LT((aligned->translation() - truth.inverse().translation()).norm(), 0.02);
+  EXPECT_LT(std::abs(NormalizeAngle(aligned->theta() + truth.theta())), 0.01);
+  // Counted as disagreement (the default), the hidden walls refuse the same alignment.
+  options.partial_overlap = false;
+  LoopCloser strict(options, RegistrationOptions{});
+  EXPECT_FALSE(strict.AlignLocalMaps(new_map, old_map, {guess.inverse()}).has_value());
+}
+
+TEST(LoopCloser, AnOldSurfaceWhereTheNewMapSeesThroughRefusesAPartialOverlap) {
+  // As above, but the old map also holds crates in what the new node sees as free space: old
+  // surfaces in front of the new map's are evidence against the alignment.
+  const Pose2 a(-1.0, 0.5, 0.0), b(1.2, 0.6, 0.5);
+  const Pose2 truth = a.Between(b);
+  auto old_room = test_support::IrregularRoom();
+  for (const auto& box : {BoxSegments(-0.2, 2.2, 0.6, 2.8), BoxSegments(2.6, 2.4, 3.2, 3.0),
+                          BoxSegments(-2.6, 1.8, -1.8, 2.6)}) {
+    old_room.insert(old_room.end(), box.begin(), box.end());
+  }
+  const Cloud old_map = CloudAt(old_room, a, 20);
+  const Cloud new_map = CloudAt(RoomWithCabinets(), b, 20);
+  LoopClosingOptions options;
+  options.partial_overlap = true;
+  LoopCloser closer(options, RegistrationOptions{});
+  EXPECT_FALSE(closer.AlignLocalMaps(new_map, old_map, {truth.inverse()}).has_value());
+  // Without the crates the same alignment validates.
+  EXPECT_TRUE(
+      closer
+          .AlignLocalMaps(new_map, CloudAt(test_support::IrregularRoom(), a, 20), {truth.inverse()})
+          .has_value());
+}
+
 TEST(LoopCloser, AfterATrackerFailureATurnedNodeIsStillAligned) {
   // The new node, 6 m from the old one, has a heading 0.75 rad off in the graph (a wrong
   // registration while turning in place): aligning from the graph's guess fails; in doubt, the

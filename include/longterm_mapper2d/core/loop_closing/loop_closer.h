@@ -78,6 +78,9 @@ class LoopCloser {
     bool degenerate = false;
   };
   Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
+  // Whether a fine alignment's validation (from the new node) passes, partial overlap included
+  // (LoopClosingOptions::partial_overlap).
+  bool Validates(const RegistrationValidation& validation) const;
   // What the Mahalanobis gate knew of a candidate: the covariance of the new node's position
   // seen from it (in its frame) and the variance of their relative heading.
   struct Marginal {

@@ -26,6 +26,9 @@ struct PosePrior {
 struct RegistrationValidation {
   int correspondences = 0;  // bins where both clouds have a facing point
   int inliers = 0;          // ... whose ranges agree within inlier_distance_m
+  // ... where the current cloud is nearer by more than that: it has a surface in front of what
+  // the reference sees there (the rest of the disagreeing bins have it hidden behind).
+  int in_front = 0;
   double inlier_ratio = 0.0;
   double correspondence_ratio = 0.0;  // correspondences / current points
   bool accepted = false;
