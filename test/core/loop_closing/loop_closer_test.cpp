@@ -226,6 +226,23 @@ TEST(LoopCloser, CorrelativeSearchOptionsAreValidated) {
   EXPECT_NE(errors_of(options).find("correlative_window_sigmas"), std::string::npos);
 }
 
+TEST(LoopCloser, PartialOverlapOptionsAreValidated) {
+  auto errors_of = [](const LoopClosingOptions& options) {
+    OptionErrors errors;
+    options.Validate(errors);
+    return errors.ToString();
+  };
+  LoopClosingOptions options;
+  options.partial_min_inlier_ratio = 0.6;  // above min_inlier_ratio, 0.5
+  EXPECT_NE(errors_of(options).find("partial_min_inlier_ratio"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.partial_min_inlier_ratio = 0.0;
+  EXPECT_NE(errors_of(options).find("partial_min_inlier_ratio"), std::string::npos);
+  options = LoopClosingOptions{};
+  options.partial_min_agreement = 1.2;
+  EXPECT_NE(errors_of(options).find("partial_min_agreement"), std::string::npos);
+}
+
 TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {
   // The clouds of nodes 0 and 1 are of one place (1 is 0.5 m from 0), but the graph, through
   // node 2 (0.8 m between 0 and 1: loose enough for the candidate gate), has node 1 2.5 m
