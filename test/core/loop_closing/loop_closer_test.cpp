@@ -25,6 +25,13 @@ Cloud CloudAt(const std::vector<Segment>& world, const Pose2& pose, double max_r
   return CloudFromScan(CastScan(world, {}, pose, laser, 11), Pose2(), CloudOptions{});
 }
 
+// What Validate says of `options` ("" when they are valid).
+std::string ErrorsOf(const LoopClosingOptions& options) {
+  OptionErrors errors;
+  options.Validate(errors);
+  return errors.ToString();
+}
+
 // A graph of nodes at `poses` joined by odometry edges (measured as the poses have it).
 PoseGraph OdometryGraph(const std::map<GraphNodeId, Pose2>& poses,
                         const std::vector<std::pair<GraphNodeId, GraphNodeId>>& odometry,
@@ -200,47 +207,37 @@ TEST(LoopCloser, ARevisitBeyondTheAlignmentsBasinIsFoundByTheCorrelativeSearch) 
 }
 
 TEST(LoopCloser, CorrelativeSearchOptionsAreValidated) {
-  auto errors_of = [](const LoopClosingOptions& options) {
-    OptionErrors errors;
-    options.Validate(errors);
-    return errors.ToString();
-  };
-  EXPECT_EQ(errors_of(LoopClosingOptions{}), "");
+  EXPECT_EQ(ErrorsOf(LoopClosingOptions{}), "");
   LoopClosingOptions options;
   options.correlative_max_window_m = 0.0;
-  EXPECT_NE(errors_of(options).find("correlative_max_window_m"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_max_window_m"), std::string::npos);
   options = LoopClosingOptions{};
   options.correlative_min_window_m = 6.0;  // above the maximum, 5
-  EXPECT_NE(errors_of(options).find("correlative_max_window_m"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_max_window_m"), std::string::npos);
   options = LoopClosingOptions{};
   options.correlative_min_window_rad = 0.6;  // above the maximum, 0.5
-  EXPECT_NE(errors_of(options).find("correlative_max_window_rad"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_max_window_rad"), std::string::npos);
   options = LoopClosingOptions{};
   options.correlative_min_score = 1.5;
-  EXPECT_NE(errors_of(options).find("correlative_min_score"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_min_score"), std::string::npos);
   options = LoopClosingOptions{};
   options.correlative_resolution_m = 0.0;
-  EXPECT_NE(errors_of(options).find("correlative_resolution_m"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_resolution_m"), std::string::npos);
   options = LoopClosingOptions{};
   options.correlative_window_sigmas = -1.0;
-  EXPECT_NE(errors_of(options).find("correlative_window_sigmas"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("correlative_window_sigmas"), std::string::npos);
 }
 
 TEST(LoopCloser, PartialOverlapOptionsAreValidated) {
-  auto errors_of = [](const LoopClosingOptions& options) {
-    OptionErrors errors;
-    options.Validate(errors);
-    return errors.ToString();
-  };
   LoopClosingOptions options;
   options.partial_min_inlier_ratio = 0.6;  // above min_inlier_ratio, 0.5
-  EXPECT_NE(errors_of(options).find("partial_min_inlier_ratio"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("partial_min_inlier_ratio"), std::string::npos);
   options = LoopClosingOptions{};
   options.partial_min_inlier_ratio = 0.0;
-  EXPECT_NE(errors_of(options).find("partial_min_inlier_ratio"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("partial_min_inlier_ratio"), std::string::npos);
   options = LoopClosingOptions{};
   options.partial_min_agreement = 1.2;
-  EXPECT_NE(errors_of(options).find("partial_min_agreement"), std::string::npos);
+  EXPECT_NE(ErrorsOf(options).find("partial_min_agreement"), std::string::npos);
 }
 
 TEST(LoopCloser, AnAlignmentFarOutsideTheGraphsUncertaintyIsNotKept) {
