@@ -156,7 +156,38 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
         nicp_.Validate(local_map_, base_points, registration.reference_T_current,
                        registration.reference_T_current * input.base_T_laser, geometry);
   }
+  // Turning in place, odometry's heading can be off by more than the alignment reaches; a
+  // failure would keep that error in the new local map for good (intel: 28 deg).
+  if (!locating && !registration.validation.accepted &&
+      options_.tracker.failure_heading_steps > 0) {
+    RegistrationResult turned = AlignTurned(input, base_points, targets, guess, geometry, stats);
+    if (turned.validation.accepted) {
+      motion_filter_.Clear();
+      registration = std::move(turned);
+    }
+  }
   return registration;
+}
+
+RegistrationResult Tracker::AlignTurned(const ScanInput& input, const Cloud& base_points,
+                                        const Cloud& targets, const Pose2& guess,
+                                        const ProjectorGeometry& geometry, MapperStats& stats) {
+  RegistrationResult best;
+  const int steps = options_.tracker.failure_heading_steps;
+  for (int step = -steps; step <= steps; ++step) {
+    if (step == 0) continue;
+    ++stats.counters["registrations_retried_turned"];  // one per turned alignment
+    const Pose2 turned = guess * Pose2(0.0, 0.0, step * options_.tracker.failure_heading_step_rad);
+    RegistrationResult registration = nicp_.AlignProjective(
+        targets, base_points, turned, input.base_T_laser, geometry, std::nullopt);
+    if (!registration.solved || !registration.validation.accepted) continue;
+    if (!best.validation.accepted ||
+        registration.validation.inlier_ratio > best.validation.inlier_ratio) {
+      best = std::move(registration);
+    }
+  }
+  if (best.validation.accepted) ++stats.counters["registrations_rescued_turned"];
+  return best;
 }
 
 std::optional<Pose2> Tracker::Locate(const ScanInput& input, const Pose2& previous_tracker_T_base,

@@ -186,5 +186,56 @@ TEST(Tracker, ALocatedScanTakesItsPoseFromTheLocalMapAndLeavesTheMapAsItWas) {
   EXPECT_EQ(tracker.local_map().size(), map_before.size());
 }
 
+// Turning in place with a 180 deg laser, odometry reports 0.1 rad for a turn of `turn_rad` (a
+// wheel slipped): further off than the alignment from odometry's guess reaches. Returns the
+// tracker's result for that scan.
+TrackResult TrackASlippedTurn(int failure_heading_steps, double turn_rad, MapperStats& stats) {
+  MapperOptions options;
+  options.tracker.failure_heading_steps = failure_heading_steps;
+  Tracker tracker(options);
+  SyntheticLaser laser;
+  laser.beams = 181;
+  laser.fov_rad = M_PI;
+  laser.range_noise_m = 0.01;
+  const auto room = test_support::IrregularRoom();
+  const Pose2 start(1.0, 0.5, 0.2);
+  ScanInput first;
+  first.scan = CastScan(room, {}, start, laser, 1);
+  tracker.Reset(first, start, stats);
+  ScanInput input;
+  input.scan = CastScan(room, {}, start * Pose2(0.0, 0.0, turn_rad), laser, 2);
+  input.scan.stamp_s = 0.2;
+  return tracker.Track(input, start, Pose2(0.0, 0.0, 0.1), stats);
+}
+
+TEST(Tracker, AScanTurnedFartherThanOdometrySaysIsFoundFromTurnedGuesses) {
+  const Pose2 truth = Pose2(1.0, 0.5, 0.2) * Pose2(0.0, 0.0, 0.7);
+  MapperStats without;
+  EXPECT_TRUE(TrackASlippedTurn(0, 0.7, without).failed);
+  EXPECT_EQ(without.counters["tracker_failures"], 1u);
+
+  MapperStats with;
+  const TrackResult result = TrackASlippedTurn(3, 0.7, with);
+  ASSERT_FALSE(result.failed);
+  EXPECT_LT((result.tracker_T_base.translation() - truth.translation()).norm(), 0.01);
+  EXPECT_LT(std::abs(NormalizeAngle(result.tracker_T_base.theta() - truth.theta())), 0.005);
+  EXPECT_EQ(with.counters["registrations_rescued_turned"], 1u);
+  EXPECT_EQ(with.counters["tracker_failures"], 0u);
+}
+
+TEST(Tracker, FailureHeadingOptionsAreValidated) {
+  TrackerOptions options;
+  OptionErrors errors;
+  options.Validate(errors);
+  EXPECT_TRUE(errors.empty()) << errors.ToString();
+  options.failure_heading_steps = -1;
+  options.failure_heading_step_rad = 0.0;
+  OptionErrors bad;
+  options.Validate(bad);
+  ASSERT_EQ(bad.errors().size(), 2u) << bad.ToString();
+  EXPECT_NE(bad.errors()[0].find("failure_heading_steps"), std::string::npos);
+  EXPECT_NE(bad.errors()[1].find("failure_heading_step_rad"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

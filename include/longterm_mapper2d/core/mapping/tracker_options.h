@@ -68,6 +68,13 @@ struct TrackerOptions {
   // 3 nodes cleans as much but takes wall points the later alignments use.
   int clean_finished_nodes = 1;
   int clean_moved_nodes = 3;
+  // When a scan fits the local map neither from odometry's guess nor without the prior, it is
+  // aligned again from guesses turned by +-1..failure_heading_steps x failure_heading_step_rad
+  // (the best validated one is kept) before the tracker gives up: turning in place, odometry's
+  // heading can be off by more than the projective alignment's basin, and a reset then leaves
+  // the new local map with odometry's heading error for good. 0: off.
+  int failure_heading_steps = 3;
+  double failure_heading_step_rad = 0.15;
 
   template <class V>
   void Visit(V& v) {
@@ -93,6 +100,8 @@ struct TrackerOptions {
     v("registration_covariance_scale", registration_covariance_scale);
     v("clean_finished_nodes", clean_finished_nodes);
     v("clean_moved_nodes", clean_moved_nodes);
+    v("failure_heading_steps", failure_heading_steps);
+    v("failure_heading_step_rad", failure_heading_step_rad);
   }
   void Validate(OptionErrors& e) const {
     e.Require(min_translation_m >= 0.0, "min_translation_m", "must be non-negative");
@@ -114,6 +123,9 @@ struct TrackerOptions {
               "min_stable_target_fraction", "must be in [0, 1]");
     e.Require(clean_finished_nodes >= 0, "clean_finished_nodes", "must be non-negative");
     e.Require(clean_moved_nodes >= 0, "clean_moved_nodes", "must be non-negative");
+    e.Require(failure_heading_steps >= 0, "failure_heading_steps", "must be non-negative");
+    e.Require(failure_heading_step_rad > 0.0 && failure_heading_step_rad < 1.0,
+              "failure_heading_step_rad", "must be in (0, 1) rad");
     e.Require(registration_covariance_scale > 0.0, "registration_covariance_scale",
               "must be positive");
   }
