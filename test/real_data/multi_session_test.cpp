@@ -104,9 +104,9 @@ TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
 // Three consecutive parts of the bag, each starting where the previous one ended. The graph is
 // bounded (at most 0.7x the nodes without maintenance), and the three trajectories together,
 // each put in the last map (reexpress_trajectory, as one session's trajectory follows its own
-// later corrections), score within 30 % of the single-session error (one run of each: over five
-// perturbed settings, node 2.4 / 2.6 m and scan 0.09 / 0.11 m, the ratio ran 0.81-1.25 and
-// averaged 0.99, the single session's error 0.030-0.039 m). As each session wrote them
+// later corrections, and smoothed again across local maps), score within 20 % of the
+// single-session error (one run of each: over five perturbed settings, node 2.4 / 2.6 m and scan
+// 0.09 / 0.11 m, the ratio ran 0.77-1.18, the default's 1.09). As each session wrote them
 // (frozen), the earlier parts miss the corrections of the later ones: a looser bound guards them.
 TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
   LTM_REQUIRE_REAL_DATA(data);
@@ -163,7 +163,7 @@ TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
       nodes[1], nodes[0], reexpressed_error, errors[1], errors[0], single_error);
   ASSERT_GT(nodes[0], 0);
   EXPECT_LE(nodes[1], 0.7 * nodes[0]);
-  EXPECT_LE(reexpressed_error, 1.3 * single_error);
+  EXPECT_LE(reexpressed_error, 1.2 * single_error);
   EXPECT_LT(errors[1], 0.2);
 }
 

@@ -3,7 +3,7 @@
 namespace longterm_mapper2d {
 namespace test_support {
 
-void MapSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& base_T_laser,
+void AddSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& base_T_laser,
                        Mapper& mapper) {
   for (const SimulatedStep& step : steps) {
     ScanInput input;
@@ -12,6 +12,11 @@ void MapSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& bas
     input.base_T_laser = base_T_laser;
     mapper.AddScan(input);
   }
+}
+
+void MapSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& base_T_laser,
+                       Mapper& mapper) {
+  AddSimulatedSteps(steps, base_T_laser, mapper);
   mapper.Finish();
 }
 

@@ -9,8 +9,11 @@
 namespace longterm_mapper2d {
 namespace test_support {
 
-// Feeds simulated steps to the mapper as scans (the wheels' odometry, the laser at base_T_laser)
-// and finishes the session.
+// Feeds simulated steps to the mapper as scans (the wheels' odometry, the laser at base_T_laser).
+void AddSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& base_T_laser,
+                       Mapper& mapper);
+
+// The same, and finishes the session.
 void MapSimulatedSteps(const std::vector<SimulatedStep>& steps, const Pose2& base_T_laser,
                        Mapper& mapper);
 

@@ -1,5 +1,6 @@
 #include "longterm_mapper2d/core/io/number_table.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -21,6 +22,13 @@ bool ParseFiniteDouble(const std::string& token, double& value) {
 StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
                                                   const std::string& source_name, int columns,
                                                   const std::string& layout) {
+  return ParseNumberTable(text, source_name, std::vector<int>{columns}, layout);
+}
+
+StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
+                                                  const std::string& source_name,
+                                                  const std::vector<int>& allowed,
+                                                  const std::string& layout) {
   std::istringstream in(text);
   std::vector<NumberRow> rows;
   std::string line;
@@ -33,9 +41,17 @@ StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
     std::istringstream fields(line);
     std::vector<std::string> tokens;
     for (std::string token; fields >> token;) tokens.push_back(token);
-    if (static_cast<int>(tokens.size()) != columns) {
-      return Status::Error(where + "expected " + std::to_string(columns) + " fields " + layout +
-                           ", got " + std::to_string(tokens.size()));
+    if (std::find(allowed.begin(), allowed.end(), static_cast<int>(tokens.size())) ==
+        allowed.end()) {
+      std::string counts;
+      for (std::size_t i = 0; i < allowed.size(); ++i) {
+        counts += (i == 0                    ? ""
+                   : i + 1 == allowed.size() ? " or "
+                                             : ", ") +
+                  std::to_string(allowed[i]);
+      }
+      return Status::Error(where + "expected " + counts + " fields " + layout + ", got " +
+                           std::to_string(tokens.size()));
     }
     NumberRow row;
     row.line_number = line_number;
@@ -53,12 +69,18 @@ StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
 
 StatusOr<std::vector<NumberRow>> ReadNumberTable(const std::string& path, int columns,
                                                  const std::string& layout) {
+  return ReadNumberTable(path, std::vector<int>{columns}, layout);
+}
+
+StatusOr<std::vector<NumberRow>> ReadNumberTable(const std::string& path,
+                                                 const std::vector<int>& allowed,
+                                                 const std::string& layout) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return Status::Error("cannot open '" + path + "'");
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) return Status::Error("error while reading '" + path + "'");
-  return ParseNumberTable(text.str(), path, columns, layout);
+  return ParseNumberTable(text.str(), path, allowed, layout);
 }
 
 }  // namespace longterm_mapper2d

@@ -35,7 +35,8 @@ void Mapper::MergeReadySets() {
   }
   std::map<NodeId, std::vector<NodeId>> sets;
   for (const auto& [id, unused] : parent) sets[find(id)].push_back(id);
-  // A set waits while a pending candidate still votes on one of its nodes.
+  // A set waits while a pending candidate still votes on one of its nodes, and while its newest
+  // node is younger than MaintenanceOptions::merge_delay_nodes.
   std::set<NodeId> referenced;
   for (const ClosureCandidate& c : loop_closer_.buffer()) {
     referenced.insert(c.local);
@@ -44,8 +45,10 @@ void Mapper::MergeReadySets() {
   std::vector<std::pair<NodeId, NodeId>> waiting;
   const auto merges_before = stats_.counters["merges"];
   for (auto& [root, ids] : sets) {
-    const bool busy =
-        std::any_of(ids.begin(), ids.end(), [&](NodeId id) { return referenced.count(id) > 0; });
+    const bool young = !finishing_ && last_node_ &&
+                       *last_node_ - ids.back() < options_.maintenance.merge_delay_nodes;
+    const bool busy = young || std::any_of(ids.begin(), ids.end(),
+                                           [&](NodeId id) { return referenced.count(id) > 0; });
     if (busy) {
       for (const auto& pair : merge_queue_) {
         if (find(pair.first) == root) waiting.push_back(pair);

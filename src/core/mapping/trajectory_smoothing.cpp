@@ -1,5 +1,6 @@
 #include "longterm_mapper2d/core/mapping/trajectory_smoothing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -45,6 +46,26 @@ std::vector<Pose2> SmoothAcrossLocalMaps(const std::vector<double>& stamps_s,
     smoothed[i] = reference * in_reference;
   }
   return smoothed;
+}
+
+void SmoothStretches(const std::vector<double>& stamps_s, const std::vector<bool>& in_stretch,
+                     const std::vector<Pose2>& chain, double half_window_s,
+                     std::vector<Pose2>& map_T_base) {
+  const std::size_t n = map_T_base.size();
+  for (std::size_t begin = 0; half_window_s > 0.0 && begin < n;) {
+    std::size_t end = begin;
+    while (end < n && in_stretch[end] && (end == begin || stamps_s[end] >= stamps_s[end - 1])) {
+      ++end;
+    }
+    if (end - begin >= 2) {
+      const std::vector<Pose2> smoothed = SmoothAcrossLocalMaps(
+          std::vector<double>(stamps_s.begin() + begin, stamps_s.begin() + end),
+          std::vector<Pose2>(map_T_base.begin() + begin, map_T_base.begin() + end),
+          std::vector<Pose2>(chain.begin() + begin, chain.begin() + end), half_window_s);
+      std::copy(smoothed.begin(), smoothed.end(), map_T_base.begin() + begin);
+    }
+    begin = std::max(end, begin + 1);
+  }
 }
 
 }  // namespace longterm_mapper2d

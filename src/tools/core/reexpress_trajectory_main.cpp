@@ -1,6 +1,7 @@
 // reexpress_trajectory: a trajectory written by an earlier session (offline_mapper --anchors),
 // in the frame of a later session's map, with every correction the later sessions made.
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "longterm_mapper2d/core/io/trajectory_io.h"
@@ -11,14 +12,19 @@ namespace {
 
 constexpr char kUsage[] =
     "usage: reexpress_trajectory --map M.ltmap --anchors A [--anchors A2 ...] --out T\n"
+    "                            [--smooth-window-s S]\n"
     "\n"
     "Puts trajectories that offline_mapper wrote with --anchors (each pose in the frame of its\n"
     "local map) into the map frame of M.ltmap, a map that continued the one they were mapped\n"
     "in: local maps merged away since are found through the map's record of removed nodes.\n"
     "  --map M.ltmap  the later session map\n"
-    "  --anchors A    an anchored trajectory ('stamp node x y theta' per line); repeatable, the\n"
-    "                 poses are written in the order given\n"
+    "  --anchors A    an anchored trajectory ('stamp node x y theta [x_w y_w theta_w]' per\n"
+    "                 line); repeatable, the poses are written in the order given\n"
     "  --out T        the result, 'stamp x y theta' per line (evaluate_relations reads it)\n"
+    "  --smooth-window-s S  smooth each file's poses across local maps again, over the scans\n"
+    "                 within S seconds, as the mapper smooths its trajectory (default 8, the\n"
+    "                 mapper's trajectory.half_window_s; 0: off; needs the written poses that\n"
+    "                 offline_mapper puts in the anchors' last three columns)\n"
     "  --help         show this text\n";
 
 int Fail(const std::string& message) {
@@ -31,6 +37,7 @@ int Fail(const std::string& message) {
 int main(int argc, char** argv) {
   using namespace longterm_mapper2d;  // NOLINT: a tool that drives the core
   std::string map_path, out_path;
+  double half_window_s = 8.0;
   std::vector<std::string> anchor_paths;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -45,6 +52,14 @@ int main(int argc, char** argv) {
       anchor_paths.push_back(argv[++i]);
     } else if (arg == "--out") {
       out_path = argv[++i];
+    } else if (arg == "--smooth-window-s") {
+      const std::string value = argv[++i];
+      char* end = nullptr;
+      half_window_s = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() || *end != '\0' ||
+          !(half_window_s >= 0.0 && half_window_s <= 600.0)) {
+        return Fail("--smooth-window-s needs a number of seconds in [0, 600], got '" + value + "'");
+      }
     } else {
       return Fail("unknown option '" + arg + "'\n\n" + kUsage);
     }
@@ -58,7 +73,7 @@ int main(int argc, char** argv) {
   for (const std::string& path : anchor_paths) {
     const auto anchors = ReadTrajectoryAnchors(path);
     if (!anchors.ok()) return Fail(anchors.status().message());
-    const auto poses = ReexpressTrajectory(*map, *anchors);
+    const auto poses = ReexpressTrajectory(*map, *anchors, half_window_s);
     if (!poses.ok()) return Fail(path + ": " + poses.status().message());
     trajectory.insert(trajectory.end(), poses->begin(), poses->end());
   }

@@ -58,8 +58,9 @@ Sessions:
   --no-maintenance        keep every node (no merging of revisited local maps), for comparison
 Output:
   --trajectory FILE     `stamp x y theta` per input scan: base in the map frame, final estimate
-  --anchors FILE        `stamp node x y theta` per input scan: base in its local map's frame;
-                        reexpress_trajectory puts it in a later session's map
+  --anchors FILE        `stamp node x y theta x_w y_w theta_w` per input scan: base in its
+                        local map's frame (and in the map frame, as written); reexpress_trajectory
+                        puts it in a later session's map
   --stats FILE.json     scans read/processed/skipped, wall time, peak RSS, time per stage
   --output-dir DIR      map.pgm/map.yaml/map.png, trajectory.txt and stats.json in DIR
   --help                this text

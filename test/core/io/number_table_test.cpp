@@ -41,5 +41,20 @@ TEST(NumberTable, RefusesLinesThatAreNotWholeFiniteNumbersWithTheirPlace) {
   EXPECT_NE(missing.status().message().find("/nonexistent/t.txt"), std::string::npos);
 }
 
+TEST(NumberTable, OptionalTrailingColumnsAreAllowedPerLine) {
+  const auto rows =
+      ParseNumberTable("1 2\n1 2 3 4\n", "t.txt", std::vector<int>{2, 4}, "'a b [c d]'");
+  ASSERT_TRUE(rows.ok()) << rows.status().message();
+  ASSERT_EQ(rows->size(), 2u);
+  EXPECT_EQ((*rows)[0].values.size(), 2u);
+  EXPECT_EQ((*rows)[1].values.size(), 4u);
+  const auto refused =
+      ParseNumberTable("1 2\n1 2 3\n", "t.txt", std::vector<int>{2, 4}, "'a b [c d]'");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("t.txt:2: expected 2 or 4 fields 'a b [c d]', got 3"),
+            std::string::npos)
+      << refused.status().message();
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -29,12 +29,17 @@ MapperOptions WithMaintenance(bool enabled) {
   return options;
 }
 
+// The simulator of one 60 s session of the small room.
+SessionSimulator SmallRoomSession(const World& world, int session, std::uint64_t seed) {
+  SimulationOptions simulation;
+  simulation.duration_s = 60.0;
+  return SessionSimulator(world, session, simulation, seed);
+}
+
 // Maps one simulated session of the small room, optionally on top of a saved map.
 SessionResult MapSession(const World& world, int session, const SessionMap* previous,
                          const MapperOptions& options = MapperOptions{}) {
-  SimulationOptions simulation;
-  simulation.duration_s = 60.0;
-  SessionSimulator simulator(world, session, simulation, 40 + session);
+  SessionSimulator simulator = SmallRoomSession(world, session, 40 + session);
   const auto steps = simulator.Run();
   Mapper mapper(options);
   if (previous) {
@@ -163,13 +168,15 @@ TEST(MultiSession, EarlierTrajectoriesAreReexpressedInTheLatestMap) {
   ASSERT_GT(second.merges, 0u);
   const auto after = ParseSessionMap(SerializeSessionMap(second.map), "session2.ltmap");
   ASSERT_TRUE(after.ok());
-  // The current session: the same poses as the mapper's trajectory.
-  const auto current = ReexpressTrajectory(*after, second.anchors);
-  ASSERT_TRUE(current.ok()) << current.status().message();
-  ASSERT_EQ(current->size(), second.trajectory.size());
-  for (std::size_t i = 0; i < current->size(); ++i) {
-    EXPECT_LT((*current)[i].pose.Between(second.trajectory[i].pose).translation().norm(), 1e-9);
-    EXPECT_EQ((*current)[i].stamp_s, second.trajectory[i].stamp_s);
+  // The current session: the same poses as the mapper's trajectory, smoothed again or not.
+  for (double window_s : {0.0, 8.0}) {
+    const auto current = ReexpressTrajectory(*after, second.anchors, window_s);
+    ASSERT_TRUE(current.ok()) << current.status().message();
+    ASSERT_EQ(current->size(), second.trajectory.size());
+    for (std::size_t i = 0; i < current->size(); ++i) {
+      EXPECT_LT((*current)[i].pose.Between(second.trajectory[i].pose).translation().norm(), 1e-9);
+      EXPECT_EQ((*current)[i].stamp_s, second.trajectory[i].stamp_s);
+    }
   }
   // The first session, many of whose local maps the second one merged away: still on the truth.
   int through_removed = 0;
@@ -177,20 +184,52 @@ TEST(MultiSession, EarlierTrajectoriesAreReexpressedInTheLatestMap) {
     through_removed += after->removed_nodes.count(anchor.node);
   }
   EXPECT_GT(through_removed, 0);
-  const auto earlier = ReexpressTrajectory(*after, first.anchors);
-  ASSERT_TRUE(earlier.ok()) << earlier.status().message();
-  ASSERT_EQ(earlier->size(), first.steps.size());
-  double max_error_m = 0.0;
-  for (std::size_t i = 0; i < earlier->size(); ++i) {
-    max_error_m = std::max(
-        max_error_m,
-        ((*earlier)[i].pose.translation() - first.steps[i].map_T_base.translation()).norm());
+  for (double window_s : {0.0, 8.0}) {
+    const auto earlier = ReexpressTrajectory(*after, first.anchors, window_s);
+    ASSERT_TRUE(earlier.ok()) << earlier.status().message();
+    ASSERT_EQ(earlier->size(), first.steps.size());
+    double max_error_m = 0.0;
+    for (std::size_t i = 0; i < earlier->size(); ++i) {
+      max_error_m = std::max(
+          max_error_m,
+          ((*earlier)[i].pose.translation() - first.steps[i].map_T_base.translation()).norm());
+    }
+    EXPECT_LT(max_error_m, 0.05) << "window " << window_s << " s";
   }
-  EXPECT_LT(max_error_m, 0.05);
   // A map that never had those nodes says so.
   SessionMap other = *after;
   other.removed_nodes.clear();
   EXPECT_FALSE(ReexpressTrajectory(other, first.anchors).ok());
+}
+
+// maintenance.merge_delay_nodes: closures accepted during the session merge nothing while their
+// nodes are younger than the delay; the end of the session merges what waited.
+TEST(MultiSession, DelayedMergesWaitForYoungerNodesAndHappenAtTheEnd) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  const SessionResult first = MapSession(*world, 1, nullptr);
+  SessionSimulator simulator = SmallRoomSession(*world, 2, 42);
+  const auto steps = simulator.Run();
+  auto merges_before_and_after_the_end = [&](int delay_nodes) {
+    MapperOptions options;
+    options.maintenance.merge_delay_nodes = delay_nodes;
+    Mapper mapper(options);
+    EXPECT_TRUE(mapper.LoadSession(first.map, std::nullopt).ok());
+    test_support::AddSimulatedSteps(steps, simulator.base_T_laser(), mapper);
+    auto merges = [&] {
+      const auto it = mapper.stats().counters.find("merges");
+      return it == mapper.stats().counters.end() ? std::uint64_t{0} : it->second;
+    };
+    const std::uint64_t before = merges();
+    EXPECT_GT(mapper.stats().counters.at("loop_closures_accepted"), 0u);
+    mapper.Finish();
+    return std::make_pair(before, merges());
+  };
+  const auto immediate = merges_before_and_after_the_end(0);
+  EXPECT_GT(immediate.first, 0u);
+  const auto delayed = merges_before_and_after_the_end(1000);
+  EXPECT_EQ(delayed.first, 0u);
+  EXPECT_GT(delayed.second, 0u);
 }
 
 // Localization on a saved map: the robot is tracked in the map's frame (even from a wrong
@@ -199,9 +238,7 @@ TEST(MultiSession, LocalizationTracksOnAFrozenMap) {
   const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
   ASSERT_TRUE(world.ok());
   const SessionResult first = MapSession(*world, 1, nullptr);
-  SimulationOptions simulation;
-  simulation.duration_s = 60.0;
-  SessionSimulator simulator(*world, 2, simulation, 77);
+  SessionSimulator simulator = SmallRoomSession(*world, 2, 77);
   const auto steps = simulator.Run();
   Mapper mapper(MapperOptions{});
   // 0.3 m and 5 degrees off the docking pose.

@@ -22,8 +22,18 @@ StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
                                                   const std::string& source_name, int columns,
                                                   const std::string& layout);
 
+// The same, where a line may hold any of the `allowed` numbers of fields (a table with
+// optional trailing columns).
+StatusOr<std::vector<NumberRow>> ParseNumberTable(const std::string& text,
+                                                  const std::string& source_name,
+                                                  const std::vector<int>& allowed,
+                                                  const std::string& layout);
+
 // Reads the file at `path` whole and parses it as above.
 StatusOr<std::vector<NumberRow>> ReadNumberTable(const std::string& path, int columns,
+                                                 const std::string& layout);
+StatusOr<std::vector<NumberRow>> ReadNumberTable(const std::string& path,
+                                                 const std::vector<int>& allowed,
                                                  const std::string& layout);
 
 }  // namespace longterm_mapper2d

@@ -170,6 +170,8 @@ class Mapper {
   LocalMapMerger local_map_merger_;
   CloudMerger node_cleaner_;
   std::vector<std::pair<NodeId, NodeId>> merge_queue_;
+  // Set during FinalClosureCheck: queued merges no longer wait for younger nodes.
+  bool finishing_ = false;
   // Pairs whose merge set lost an inconsistent closure, merged on the next pass.
   std::vector<std::pair<NodeId, NodeId>> requeued_merges_;
   NodeId next_node_id_ = 0;

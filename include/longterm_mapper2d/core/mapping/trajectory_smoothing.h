@@ -39,4 +39,11 @@ std::vector<Pose2> SmoothAcrossLocalMaps(const std::vector<double>& stamps_s,
                                          const std::vector<Pose2>& tracker_T_base,
                                          double half_window_s);
 
+// SmoothAcrossLocalMaps on each stretch of consecutive poses that have `in_stretch` set and
+// non-decreasing stamps, in place (`chain`: the tracker's poses, or any locally consistent
+// trajectory of the same scans); poses outside every stretch are left as they are.
+void SmoothStretches(const std::vector<double>& stamps_s, const std::vector<bool>& in_stretch,
+                     const std::vector<Pose2>& chain, double half_window_s,
+                     std::vector<Pose2>& map_T_base);
+
 }  // namespace longterm_mapper2d
