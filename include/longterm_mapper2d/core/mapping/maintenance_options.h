@@ -50,8 +50,9 @@ struct MaintenanceOptions {
   // then the next nodes align with the old local maps one by one, each a distinct node in the
   // vote, and the graph takes their closures before the removed nodes' scans are tied to the
   // survivor for good. 0: merged as soon as the vote accepts. Measured, not adopted (README,
-  // "Accuracy"): 3 took intel's five robustness runs 0.035 -> 0.030 m, but broke two of the five
-  // seeds of the simulated care home (trajectory 0.015 -> 0.066 m); 1, 2 and 5 broke them too.
+  // "Accuracy"): 3 took intel's five robustness runs 0.035 -> 0.030 m, but bent the simulated
+  // care home's map past its test's bounds on two of five seeds (trajectory RMSE 0.015 -> 0.066
+  // m); 1, 2 and 5 did too.
   int merge_delay_nodes = 0;
 
   template <class V>
