@@ -31,7 +31,7 @@ void Mapper::AcceptClosures(const std::vector<GraphEdge>& closures) {
 void Mapper::FinalClosureCheck() {
   // Merges queued by this check or waiting for younger nodes happen now (merge_delay_nodes).
   finishing_ = true;
-  bool optimized = false;
+  bool already_optimized = false;
   if (options_.loop_closing.enabled) {
     // Every node was searched when it was made: what is left is the vote on the candidates
     // still waiting for later nodes.
@@ -46,10 +46,10 @@ void Mapper::FinalClosureCheck() {
       // optimised just above.
       const auto optimizations_before = stats_.counters["optimizations"];
       SweepClosures();
-      optimized = stats_.counters["optimizations"] == optimizations_before;
+      already_optimized = stats_.counters["optimizations"] == optimizations_before;
     }
   }
-  if (!optimized) OptimizeGraph(options_.optimizer.max_iterations);
+  if (!already_optimized) OptimizeGraph(options_.optimizer.max_iterations);
   finishing_ = false;
 }
 

@@ -1,6 +1,5 @@
 // The Mapper's trajectory: every input scan's pose, smoothed across local-map boundaries, and the
 // same poses anchored to their local maps for later sessions.
-#include <algorithm>
 #include <vector>
 
 #include "longterm_mapper2d/core/mapping/mapper.h"
@@ -20,6 +19,7 @@ std::vector<StampedPose2> Mapper::Trajectory() const {
   }
   // Smoothed across node boundaries, stretch by stretch of scans that hang off nodes (a stretch
   // recorded in localization, fixed in the map, or the one still pending, is not).
+  if (options_.trajectory.half_window_s <= 0.0) return trajectory;
   std::vector<double> stamps;
   std::vector<bool> attached;
   std::vector<Pose2> map_T_base, tracker_T_base;

@@ -147,6 +147,14 @@ TEST(Tracker, ASlowWalkerDoesNotDragTheMatchAlongACorridor) {
   }
 }
 
+// Where both irregular-room tests start: the tracker reset on a first scan taken from kRoomStart.
+const Pose2 kRoomStart(1.0, 0.5, 0.2);
+void StartInTheIrregularRoom(const SyntheticLaser& laser, Tracker& tracker, MapperStats& stats) {
+  ScanInput first;
+  first.scan = CastScan(test_support::IrregularRoom(), {}, kRoomStart, laser, 1);
+  tracker.Reset(first, kRoomStart, stats);
+}
+
 TEST(Tracker, ALocatedScanTakesItsPoseFromTheLocalMapAndLeavesTheMapAsItWas) {
   MapperOptions options;
   Tracker tracker(options);
@@ -154,10 +162,8 @@ TEST(Tracker, ALocatedScanTakesItsPoseFromTheLocalMapAndLeavesTheMapAsItWas) {
   SyntheticLaser laser;
   laser.range_noise_m = 0.01;
   const auto room = test_support::IrregularRoom();
-  const Pose2 start(1.0, 0.5, 0.2);
-  ScanInput first;
-  first.scan = CastScan(room, {}, start, laser, 1);
-  tracker.Reset(first, start, stats);
+  const Pose2& start = kRoomStart;
+  StartInTheIrregularRoom(laser, tracker, stats);
   const Cloud map_before = tracker.local_map();
 
   // The robot moved 5 cm and turned 0.03 rad; odometry says 8 cm and 0.06 rad.
@@ -197,19 +203,16 @@ TrackResult TrackASlippedTurn(int failure_heading_steps, double turn_rad, Mapper
   laser.beams = 181;
   laser.fov_rad = M_PI;
   laser.range_noise_m = 0.01;
-  const auto room = test_support::IrregularRoom();
-  const Pose2 start(1.0, 0.5, 0.2);
-  ScanInput first;
-  first.scan = CastScan(room, {}, start, laser, 1);
-  tracker.Reset(first, start, stats);
+  StartInTheIrregularRoom(laser, tracker, stats);
   ScanInput input;
-  input.scan = CastScan(room, {}, start * Pose2(0.0, 0.0, turn_rad), laser, 2);
+  input.scan =
+      CastScan(test_support::IrregularRoom(), {}, kRoomStart * Pose2(0.0, 0.0, turn_rad), laser, 2);
   input.scan.stamp_s = 0.2;
-  return tracker.Track(input, start, Pose2(0.0, 0.0, 0.1), stats);
+  return tracker.Track(input, kRoomStart, Pose2(0.0, 0.0, 0.1), stats);
 }
 
 TEST(Tracker, AScanTurnedFartherThanOdometrySaysIsFoundFromTurnedGuesses) {
-  const Pose2 truth = Pose2(1.0, 0.5, 0.2) * Pose2(0.0, 0.0, 0.7);
+  const Pose2 truth = kRoomStart * Pose2(0.0, 0.0, 0.7);
   MapperStats without;
   EXPECT_TRUE(TrackASlippedTurn(0, 0.7, without).failed);
   EXPECT_EQ(without.counters["tracker_failures"], 1u);
