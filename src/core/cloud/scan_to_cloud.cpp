@@ -1,5 +1,6 @@
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace longterm_mapper2d {
@@ -47,11 +48,13 @@ Cloud PointsFromScan(const LaserScan& scan, const CloudOptions& options, std::ve
   return cloud;
 }
 
-void EstimateNormals(Cloud& cloud, const CloudOptions& options) {
-  const double radius_sq = options.normal_radius_m * options.normal_radius_m;
+void EstimateNormals(Cloud& cloud, const CloudOptions& options, double angle_increment_rad) {
+  const double radius_per_m = options.normal_radius_beams * std::abs(angle_increment_rad);
   const int n = static_cast<int>(cloud.size());
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector2d& centre = cloud[i].point_m;
+    const double radius = std::max(options.normal_radius_m, radius_per_m * centre.norm());
+    const double radius_sq = radius * radius;
     // Walk left and right over consecutive returns while they stay within the radius.
     int lo = i, hi = i;
     while (lo - 1 >= 0 && (cloud[lo - 1].point_m - centre).squaredNorm() < radius_sq) --lo;
@@ -80,7 +83,7 @@ void EstimateNormals(Cloud& cloud, const CloudOptions& options) {
 Cloud CloudFromScan(const LaserScan& scan, const Pose2& base_T_laser, const CloudOptions& options,
                     std::vector<int>* beam_of_point) {
   Cloud cloud = PointsFromScan(scan, options, beam_of_point);
-  EstimateNormals(cloud, options);
+  EstimateNormals(cloud, options, scan.angle_increment_rad);
   return Transform(base_T_laser, cloud);
 }
 

@@ -130,6 +130,25 @@ std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cl
   return std::nullopt;
 }
 
+void LoopCloser::ChooseFallbacks(const PoseGraph& graph, GraphNodeId node,
+                                 const std::vector<std::pair<double, GraphNodeId>>& members,
+                                 std::map<GraphNodeId, GraphNodeId>* fallback_of) const {
+  const GraphNode& current = graph.node(node);
+  std::vector<GraphNodeId> chosen = {members.front().second};
+  for (std::size_t i = 1; i < members.size(); ++i) {
+    if (static_cast<int>(chosen.size()) > options_.fallback_members) return;
+    const GraphNode& member = graph.node(members[i].second);
+    if (current.stamp_s - member.stamp_s < options_.fallback_min_age_s) continue;
+    const bool apart = std::all_of(chosen.begin(), chosen.end(), [&](GraphNodeId id) {
+      return (graph.node(id).pose.translation() - member.pose.translation()).norm() >=
+             options_.fallback_min_spacing_m;
+    });
+    if (!apart) continue;
+    (*fallback_of)[member.id] = chosen.back();
+    chosen.push_back(member.id);
+  }
+}
+
 void LoopCloser::SearchFrom(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of,
                             MapperStats& stats, bool heading_in_doubt) {
   Search(graph, node, cloud_of, stats, heading_in_doubt, /*sweep=*/false);
@@ -161,6 +180,7 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
   const Pose2& pose = graph.node(node).pose;
   std::vector<GraphNodeId> olds;  // the local maps to align the new one with, in order
   std::set<GraphNodeId> tried;
+  std::map<GraphNodeId, GraphNodeId> fallback_of;  // member -> the one whose failure it awaits
   auto align = [&](GraphNodeId old) {
     if (!tried.insert(old).second) return;
     if (accepted_pairs_.count({std::min(node, old), std::max(node, old)})) return;
@@ -169,21 +189,19 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
   while (!remaining.empty()) {
     std::deque<GraphNodeId> queue{*remaining.begin()};
     remaining.erase(remaining.begin());
-    GraphNodeId nearest = queue.front();
-    double nearest_distance = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, GraphNodeId>> members;
     while (!queue.empty()) {
       const GraphNodeId id = queue.front();
       queue.pop_front();
-      const double d = (graph.node(id).pose.translation() - pose.translation()).norm();
-      if (d < nearest_distance) {
-        nearest_distance = d;
-        nearest = id;
-      }
+      members.push_back({(graph.node(id).pose.translation() - pose.translation()).norm(), id});
       for (GraphNodeId next : adjacency[id]) {
         if (remaining.erase(next)) queue.push_back(next);
       }
     }
-    align(nearest);
+    std::sort(members.begin(), members.end());
+    align(members[0].second);
+    // The sweep starts from the final graph: its nearest member is where the place is.
+    if (!sweep) ChooseFallbacks(graph, node, members, &fallback_of);
   }
   for (GraphNodeId id : candidates) {
     const GraphNode& other = graph.node(id);
@@ -245,6 +263,25 @@ void LoopCloser::Search(const PoseGraph& graph, GraphNodeId node, const CloudOf&
     guesses[k].insert(guesses[k].end(), prediction->second.begin(), prediction->second.end());
   }
   try_in_rounds(guesses);
+  // A set's next nearest member where the one before it did not align (the graph's guess drifted
+  // away from the place): one more round of old maps per failure, with the same two guesses.
+  for (bool added = true; added;) {
+    added = false;
+    for (std::vector<Pose2>& g : guesses) g.clear();
+    for (const auto& [member, before] : fallback_of) {
+      const auto it = std::find(olds.begin(), olds.end(), before);
+      if (it == olds.end() || outcomes[it - olds.begin()].pose) continue;
+      if (std::find(olds.begin(), olds.end(), member) != olds.end()) continue;
+      if (accepted_pairs_.count({std::min(node, member), std::max(node, member)})) continue;
+      ++stats.counters["loop_closure_alignments_fallback"];
+      olds.push_back(member);
+      graph_guesses.push_back(pose.Between(graph.node(member).pose));
+      guesses.push_back({graph_guesses.back(), Pose2(0.0, 0.0, graph_guesses.back().theta())});
+      outcomes.emplace_back();
+      added = true;
+    }
+    if (added) try_in_rounds(guesses);
+  }
 
   // Turning in place, a wrong registration can leave the heading tens of degrees off, far
   // beyond what the alignment corrects from the graph's guess: after a tracker failure, the maps

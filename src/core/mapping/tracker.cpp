@@ -32,7 +32,7 @@ Cloud Tracker::MakeCloud(const ScanInput& input, std::vector<int>* beams,
     laser_points = PointsFromScan(input.scan, options_.cloud, beams);
   }
   ScopedStageTimer timer(stats.stage_times, "normals");
-  EstimateNormals(laser_points, options_.cloud);
+  EstimateNormals(laser_points, options_.cloud, input.scan.angle_increment_rad);
   return Transform(input.base_T_laser, laser_points);
 }
 

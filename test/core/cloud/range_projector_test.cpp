@@ -108,5 +108,40 @@ TEST(ScanToCloud, NormalsFaceTheLaserAndCornersHaveNone) {
   }
 }
 
+TEST(ScanToCloud, FarWallsOfALargeHallKeepTheirNormals) {
+  // A wall 20 m away seen by a laser with 1 degree between beams: its returns are 0.35 m apart or
+  // more, so a fixed 0.3 m neighbourhood (the default) holds one point and gives no normal; the
+  // neighbourhood that grows with the beams' spacing gives the wall its normal.
+  LaserScan scan;
+  scan.angle_min_rad = -M_PI / 2;
+  scan.angle_increment_rad = M_PI / 180;
+  scan.range_min_m = 0.05;
+  scan.range_max_m = 80;
+  for (int i = 0; i < 181; ++i) {
+    const double a = scan.BeamAngle(i);
+    scan.ranges.push_back(std::cos(a) > 0.7 ? static_cast<float>(20.0 / std::cos(a))
+                                            : std::numeric_limits<float>::infinity());
+  }
+  CloudOptions fixed;
+  fixed.normal_radius_beams = 0.0;
+  const Cloud without = CloudFromScan(scan, Pose2(), fixed);
+  ASSERT_GT(without.size(), 80u);
+  for (const RichPoint& p : without) EXPECT_FALSE(p.has_normal());
+
+  CloudOptions growing;
+  growing.normal_radius_beams = 3.0;
+  const Cloud with = CloudFromScan(scan, Pose2(), growing);
+  ASSERT_EQ(with.size(), without.size());
+  int with_normal = 0;
+  for (const RichPoint& p : with) {
+    if (!p.has_normal()) continue;
+    ++with_normal;
+    EXPECT_NEAR(p.normal.x(), -1.0, 1e-6);
+  }
+  // Within 45 deg of the wall's normal the returns are at most 3 / sqrt(2) beam spacings apart
+  // along the wall: all but the two at each end of the wall have enough neighbours.
+  EXPECT_GE(with_normal, static_cast<int>(with.size()) - 4);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

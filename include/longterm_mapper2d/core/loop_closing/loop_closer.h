@@ -115,6 +115,11 @@ class LoopCloser {
                                       const std::map<GraphNodeId, Marginal>& marginals,
                                       const CloudOf& cloud_of, std::vector<Outcome>& outcomes,
                                       MapperStats& stats) const;
+  // The members of a candidate set (distance from the new node, id; nearest first) to try after
+  // the nearest, each mapped to the member whose failed alignment it waits for.
+  void ChooseFallbacks(const PoseGraph& graph, GraphNodeId node,
+                       const std::vector<std::pair<double, GraphNodeId>>& members,
+                       std::map<GraphNodeId, GraphNodeId>* fallback_of) const;
   // SearchFrom (`sweep` false) and SweepFrom (true).
   void Search(const PoseGraph& graph, GraphNodeId node, const CloudOf& cloud_of, MapperStats& stats,
               bool heading_in_doubt, bool sweep);
