@@ -219,9 +219,9 @@ TEST(LoopCloser, AfterALongLoopTheNextMemberOfASetIsTriedWhereTheNearestFails) {
   auto world = room_a;
   world.insert(world.end(), room_b.begin(), room_b.end());
   const Pose2 old_a(0.0, 0.0, 0.0), old_b(14.0, 0.0, 0.0), new_truth(0.3, 0.2, 0.1);
-  PoseGraph graph = OdometryGraph(
-      {{0, old_a}, {1, old_b}, {3, Pose2(0.0, 20.0, 0.0)}, {2, Pose2(8.0, 0.5, 0.1)}},
-      {{0, 1}, {1, 3}, {3, 2}}, Eigen::Vector3d(0.2, 0.2, 100.0));
+  PoseGraph graph =
+      OdometryGraph({{0, old_a}, {1, old_b}, {3, Pose2(0.0, 20.0, 0.0)}, {2, Pose2(8.0, 0.5, 0.1)}},
+                    {{0, 1}, {1, 3}, {3, 2}}, Eigen::Vector3d(0.2, 0.2, 100.0));
   graph.mutable_node(1).stamp_s = 100.0;
   graph.mutable_node(3).stamp_s = 500.0;
   graph.mutable_node(2).stamp_s = 1000.0;
