@@ -9,10 +9,7 @@
 #                         [DATASET ...]   (default: intel aces fr079; also mit-killian,
 #                         whose stamps scripts/restore_killian_stamps.py restores first)
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-DATA="$(cd "$ROOT/.." && pwd)/shared/data"
-BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="$ROOT/output/bench"
 
 BUILD=1
@@ -30,11 +27,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 [ ${#DATASETS[@]} -gt 0 ] || DATASETS=(intel aces fr079)
-if [ ! -d "$DATA" ]; then echo "bench.sh: no data folder at $DATA" >&2; exit 1; fi
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output_build.log" 2>&1 || { tail -30 "$ROOT/output_build.log"; exit 1; }
-fi
+bench_require_data
+[ $BUILD -eq 0 ] || bench_build
 mkdir -p "$OUT"
 
 for d in "${DATASETS[@]}"; do

@@ -7,10 +7,7 @@
 # both; writes output/bench_keyframes.json. Figures are measured, never asserted.
 # Usage: scripts/bench_keyframes.sh [--no-build] [--config FILE.yaml] [NAME ...]
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-DATA="$(cd "$ROOT/.." && pwd)/shared/data"
-BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="$ROOT/output/bench_keyframes"
 
 BUILD=1
@@ -28,10 +25,7 @@ done
 if [ ! -d "$DATA/radish-gfs-corrected" ]; then
   echo "bench_keyframes.sh: no $DATA/radish-gfs-corrected" >&2; exit 1
 fi
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output_build.log" 2>&1 || { tail -30 "$ROOT/output_build.log"; exit 1; }
-fi
+[ $BUILD -eq 0 ] || bench_build
 mkdir -p "$OUT"
 /usr/bin/python3 "$ROOT/scripts/keyframe_logs.py" "$DATA" "$OUT" "${NAMES[@]}" > /dev/null
 [ ${#NAMES[@]} -gt 0 ] || mapfile -t NAMES < <(cd "$OUT" && ls *.log | sed 's/\.log$//')

@@ -7,9 +7,7 @@
 # RMSE against the simulator's truth, as a table and as output/bench_long.json, and the totals.
 # Measured, never asserted. Usage: scripts/bench_long.sh [--no-build] [--no-maintenance] [HOURS]
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="$ROOT/output/bench_long"
 BUILD=1
 HOURS=10
@@ -22,11 +20,7 @@ for arg in "$@"; do
     *) echo "bench_long.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  mkdir -p "$ROOT/output"
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output/build.log" 2>&1 || { tail -30 "$ROOT/output/build.log"; exit 1; }
-fi
+[ $BUILD -eq 0 ] || bench_build
 rm -rf "$OUT"
 mkdir -p "$OUT"
 echo "bench_long.sh: simulating $HOURS h of patrol" >&2

@@ -6,9 +6,7 @@
 # RSS at real time). Writes output/bench_node.json. Figures are measured, never asserted.
 # Usage: scripts/bench_node.sh [--no-build] [--rt1 SECONDS] [RATE ...]   (default rates: 10 25 50 100)
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-DATA="$(cd "$ROOT/.." && pwd)/shared/data"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 BAG="$DATA/intel/intel.bag"
 OUT="$ROOT/output/bench_node"
 
@@ -25,10 +23,7 @@ while [ $# -gt 0 ]; do
 done
 [ ${#RATES[@]} -gt 0 ] || RATES=(10 25 50 100)
 if [ ! -f "$BAG" ]; then echo "bench_node.sh: no bag at $BAG" >&2; exit 1; fi
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output_build.log" 2>&1 || { tail -30 "$ROOT/output_build.log"; exit 1; }
-fi
+[ $BUILD -eq 0 ] || bench_build
 set +u
 # shellcheck disable=SC1091
 source "$ROOT/build_ws/devel/setup.bash"

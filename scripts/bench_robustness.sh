@@ -7,10 +7,7 @@
 # output/bench_robustness.json. Figures are measured, never asserted.
 # Usage: scripts/bench_robustness.sh [--no-build] [DATASET ...]   (default: intel aces fr079)
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-DATA="$(cd "$ROOT/.." && pwd)/shared/data"
-BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="$ROOT/output/bench_robustness"
 
 BUILD=1
@@ -24,11 +21,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 [ ${#DATASETS[@]} -gt 0 ] || DATASETS=(intel aces fr079)
-if [ ! -d "$DATA" ]; then echo "bench_robustness.sh: no data folder at $DATA" >&2; exit 1; fi
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output_build.log" 2>&1 || { tail -30 "$ROOT/output_build.log"; exit 1; }
-fi
+bench_require_data
+[ $BUILD -eq 0 ] || bench_build
 mkdir -p "$OUT"
 
 VARIANTS=("default" "node_2.4m" "node_2.6m" "scan_0.09m" "scan_0.11m")

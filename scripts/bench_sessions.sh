@@ -5,10 +5,7 @@
 # peak RSS and the relation error, as a table and as output/bench_sessions.json. Measured, never
 # asserted. Usage: scripts/bench_sessions.sh [--no-build] [--no-maintenance] [N]
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-export PATH="/usr/bin:$PATH"
-DATA="$(cd "$ROOT/.." && pwd)/shared/data"
-BIN="$ROOT/build_ws/devel/lib/longterm_mapper2d"
+source "$(dirname "${BASH_SOURCE[0]}")/bench_common.sh"
 OUT="$ROOT/output/bench_sessions"
 BUILD=1
 SESSIONS=10
@@ -22,11 +19,7 @@ for arg in "$@"; do
   esac
 done
 if [ ! -f "$DATA/intel/intel.bag" ]; then echo "bench_sessions.sh: no intel bag in $DATA" >&2; exit 1; fi
-if [ $BUILD -eq 1 ]; then
-  bash "$ROOT/scripts/install_deps.sh" > /dev/null
-  mkdir -p "$ROOT/output"
-  bash "$ROOT/scripts/build.sh" > "$ROOT/output/build.log" 2>&1 || { tail -30 "$ROOT/output/build.log"; exit 1; }
-fi
+[ $BUILD -eq 0 ] || bench_build
 rm -rf "$OUT"
 mkdir -p "$OUT"
 previous=()

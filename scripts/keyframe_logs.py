@@ -97,8 +97,13 @@ def main():
         sys.exit(__doc__)
     source = os.path.join(sys.argv[1], "radish-gfs-corrected")
     out_dir = sys.argv[2]
-    names = sys.argv[3:] or sorted(f[:-len("-corrected.log")] for f in os.listdir(source)
-                                   if f.endswith("-corrected.log"))
+    known = sorted(f[:-len("-corrected.log")] for f in os.listdir(source)
+                   if f.endswith("-corrected.log"))
+    names = sys.argv[3:] or known
+    unknown = [name for name in names if name not in known]
+    if unknown:
+        sys.exit("keyframe_logs.py: no log named %s in %s (there are: %s)" %
+                 (", ".join(unknown), source, " ".join(known)))
     os.makedirs(out_dir, exist_ok=True)
     for name in names:
         scans = read_scans(os.path.join(source, name + "-corrected.log"))

@@ -16,5 +16,21 @@ PoseGraph NodesAt(const std::map<GraphNodeId, Pose2>& poses) {
   return graph;
 }
 
+PoseGraph OdometryGraph(const std::map<GraphNodeId, Pose2>& poses,
+                        const std::vector<std::pair<GraphNodeId, GraphNodeId>>& odometry,
+                        const Eigen::Vector3d& information) {
+  PoseGraph graph = NodesAt(poses);
+  for (const auto& [from, to] : odometry) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = poses.at(from).Between(poses.at(to));
+    edge.information = information.asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    EXPECT_TRUE(graph.AddEdge(edge).ok());
+  }
+  return graph;
+}
+
 }  // namespace test_support
 }  // namespace longterm_mapper2d

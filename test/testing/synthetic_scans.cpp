@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
 
 namespace longterm_mapper2d {
@@ -28,6 +29,14 @@ LaserScan CastScan(const std::vector<Segment>& segments,
     scan.ranges[i] = static_cast<float>(r);
   }
   return scan;
+}
+
+Cloud CloudSeenFrom(const std::vector<Segment>& segments, const Pose2& map_T_laser,
+                    double max_range_m) {
+  SyntheticLaser laser;
+  laser.max_range_m = max_range_m;
+  laser.range_noise_m = 0.005;
+  return CloudFromScan(CastScan(segments, {}, map_T_laser, laser, 11), Pose2(), CloudOptions{});
 }
 
 std::vector<Segment> IrregularRoom() {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "longterm_mapper2d/core/cloud/rich_point.h"
 #include "longterm_mapper2d/core/geometry/pose2.h"
 #include "longterm_mapper2d/core/sensor/laser_scan.h"
 #include "longterm_mapper2d/core/simulation/world.h"
@@ -24,6 +25,11 @@ struct SyntheticLaser {
 LaserScan CastScan(const std::vector<Segment>& segments,
                    const std::vector<Eigen::Vector3d>& people, const Pose2& map_T_laser,
                    const SyntheticLaser& laser, std::uint64_t seed = 0);
+
+// The cloud (default CloudOptions, laser at the base) of a scan of `segments` from `map_T_laser`
+// with a full-circle laser of `max_range_m` and 5 mm range noise (seed 11): a local map's worth.
+Cloud CloudSeenFrom(const std::vector<Segment>& segments, const Pose2& map_T_laser,
+                    double max_range_m);
 
 // An irregular room (not symmetric, so that registration has a unique answer): 10 m x 7 m with an
 // alcove, a pillar and a slanted wall.

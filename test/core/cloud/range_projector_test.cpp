@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
@@ -71,18 +72,25 @@ TEST(RangeProjector, ZBufferKeepsTheNearestAndBackFacesOcclude) {
   EXPECT_FLOAT_EQ(image.ranges_m[ahead], 1.0f);
 }
 
-TEST(ScanToCloud, NormalsFaceTheLaserAndCornersHaveNone) {
-  // A wall at x = 2 seen by 181 beams over 180 degrees: normals point back at the laser (-x).
+// A wall across the laser's view at x = distance_m, seen by 181 beams over 180 degrees (1 degree
+// apart); the beams turned from it by more than acos(min_cos) see nothing (infinite range).
+LaserScan WallScan(double distance_m, double min_cos, float range_max_m) {
   LaserScan scan;
   scan.angle_min_rad = -M_PI / 2;
   scan.angle_increment_rad = M_PI / 180;
   scan.range_min_m = 0.05;
-  scan.range_max_m = 20;
+  scan.range_max_m = range_max_m;
   for (int i = 0; i < 181; ++i) {
     const double a = scan.BeamAngle(i);
-    scan.ranges.push_back(std::cos(a) > 0.2 ? static_cast<float>(2.0 / std::cos(a))
-                                            : std::numeric_limits<float>::infinity());
+    scan.ranges.push_back(std::cos(a) > min_cos ? static_cast<float>(distance_m / std::cos(a))
+                                                : std::numeric_limits<float>::infinity());
   }
+  return scan;
+}
+
+TEST(ScanToCloud, NormalsFaceTheLaserAndCornersHaveNone) {
+  // A wall at x = 2: normals point back at the laser (-x).
+  const LaserScan scan = WallScan(2.0, 0.2, 20.0f);
   const Pose2 base_T_laser(0.3, 0.0, 0.0);
   std::vector<int> beams;
   const Cloud cloud = CloudFromScan(scan, base_T_laser, CloudOptions{}, &beams);
@@ -112,16 +120,7 @@ TEST(ScanToCloud, FarWallsOfALargeHallKeepTheirNormals) {
   // A wall 20 m away seen by a laser with 1 degree between beams: its returns are 0.35 m apart or
   // more, so a fixed 0.3 m neighbourhood (the default) holds one point and gives no normal; the
   // neighbourhood that grows with the beams' spacing gives the wall its normal.
-  LaserScan scan;
-  scan.angle_min_rad = -M_PI / 2;
-  scan.angle_increment_rad = M_PI / 180;
-  scan.range_min_m = 0.05;
-  scan.range_max_m = 80;
-  for (int i = 0; i < 181; ++i) {
-    const double a = scan.BeamAngle(i);
-    scan.ranges.push_back(std::cos(a) > 0.7 ? static_cast<float>(20.0 / std::cos(a))
-                                            : std::numeric_limits<float>::infinity());
-  }
+  const LaserScan scan = WallScan(20.0, 0.7, 80.0f);
   CloudOptions fixed;
   fixed.normal_radius_beams = 0.0;
   const Cloud without = CloudFromScan(scan, Pose2(), fixed);

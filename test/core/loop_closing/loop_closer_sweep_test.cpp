@@ -5,7 +5,6 @@
 #include <utility>
 #include <vector>
 
-#include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 #include "testing/pose_graphs.h"
 #include "testing/synthetic_scans.h"
@@ -13,16 +12,8 @@
 namespace longterm_mapper2d {
 namespace {
 
-using test_support::CastScan;
+using test_support::CloudSeenFrom;
 using test_support::NodesAt;
-using test_support::SyntheticLaser;
-
-Cloud CloudAt(const std::vector<Segment>& world, const Pose2& pose) {
-  SyntheticLaser laser;
-  laser.max_range_m = 8.0;
-  laser.range_noise_m = 0.005;
-  return CloudFromScan(CastScan(world, {}, pose, laser, 11), Pose2(), CloudOptions{});
-}
 
 // Nodes 10 and 11 came back to the room of old nodes 0 and 1 after a long way round (the chain
 // 0 - 6 - 1 - 5 - 10 - 11 runs through nodes 20 m away); the graph has them `offset` from where
@@ -41,7 +32,7 @@ struct Revisit {
                                              {6, Pose2(0.0, 20.0, 0.0)}};
     for (const auto& [id, pose] : truth) {
       in_graph[id] = id >= 10 ? offset * pose : pose;
-      clouds[id] = CloudAt(room, pose);
+      clouds[id] = CloudSeenFrom(room, pose, 8.0);
     }
     graph = NodesAt(in_graph);
     for (const auto& [from, to] : std::vector<std::pair<GraphNodeId, GraphNodeId>>{
