@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <utility>
 #include <vector>
 
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
@@ -34,11 +33,8 @@ struct Revisit {
       in_graph[id] = id >= 10 ? offset * pose : pose;
       clouds[id] = CloudSeenFrom(room, pose, 8.0);
     }
-    graph = NodesAt(in_graph);
-    for (const auto& [from, to] : std::vector<std::pair<GraphNodeId, GraphNodeId>>{
-             {0, 6}, {6, 1}, {1, 5}, {5, 10}, {10, 11}}) {
-      Link(from, to, EdgeKind::kOdometry);
-    }
+    graph = test_support::OdometryGraph(in_graph, {{0, 6}, {6, 1}, {1, 5}, {5, 10}, {10, 11}},
+                                        Eigen::Vector3d(3.0, 3.0, 1e3));
   }
   void Link(GraphNodeId from, GraphNodeId to, EdgeKind kind) {
     GraphEdge edge;
