@@ -116,8 +116,9 @@ LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& c
   }
   // Weak along one axis and only a modest share of the new map agreeing: a slide along a
   // corridor whose few cross features happen to match (intel: two consecutive nodes laid ~1 m
-  // along an old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; right closures there have
-  // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept.
+  // along an old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; that run's validated
+  // alignments have a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is
+  // kept.
   if (lambda.x() < options_.weak_information_ratio * lambda.y() &&
       second.validation.inlier_ratio < options_.weak_min_inlier_ratio) {
     attempt.degenerate = true;
