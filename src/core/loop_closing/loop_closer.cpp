@@ -106,21 +106,17 @@ LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& c
   if (!second.solved || !Validates(second.validation) || !second.reference_T_current.IsFinite()) {
     return attempt;
   }
-  // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it.
+  // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it. So is
+  // weak geometry that only a modest share of the new map agrees with: a slide along a corridor
+  // whose few cross features happen to match (intel: two consecutive nodes laid ~1 m along an
+  // old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; that run's validated alignments have
+  // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept.
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
       second.information.topLeftCorner<2, 2>());
   const Eigen::Vector2d lambda = eigen.eigenvalues();
-  if (!(lambda.x() > options_.min_information_ratio * lambda.y())) {
-    attempt.degenerate = true;
-    return attempt;
-  }
-  // Weak along one axis and only a modest share of the new map agreeing: a slide along a
-  // corridor whose few cross features happen to match (intel: two consecutive nodes laid ~1 m
-  // along an old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; that run's validated
-  // alignments have a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is
-  // kept.
-  if (lambda.x() < options_.weak_information_ratio * lambda.y() &&
-      second.validation.inlier_ratio < options_.weak_min_inlier_ratio) {
+  const bool weak = lambda.x() < options_.weak_information_ratio * lambda.y() &&
+                    second.validation.inlier_ratio < options_.weak_min_inlier_ratio;
+  if (!(lambda.x() > options_.min_information_ratio * lambda.y()) || weak) {
     attempt.degenerate = true;
     return attempt;
   }
