@@ -44,10 +44,14 @@ Status MapperNode::Start() {
     if (Status s = StartSessionOn(node_options_.load_map, std::nullopt); !s.ok()) return s;
   }
 
-  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(tf_buffer_, nh_);
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>(ros::Duration(node_options_.tf_cache_s));
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh_);
   scan_nh_ = nh_;
   scan_nh_.setCallbackQueue(&scan_callback_queue_);
-  scan_subscriber_ = scan_nh_.subscribe(node_options_.scan_topic, 100, &MapperNode::OnScan, this);
+  // The subscriber's own queue holds what arrives while the scan thread is busy; a scan it
+  // overflows is lost uncounted, so it is as deep as the node's counted queues.
+  scan_subscriber_ = scan_nh_.subscribe(node_options_.scan_topic, node_options_.scan_queue_size,
+                                        &MapperNode::OnScan, this);
   // A scan still waiting for its odometry when no newer scan comes is retried by this timer.
   odometry_retry_timer_ = scan_nh_.createWallTimer(
       ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { MapWaitingScans(); });

@@ -95,16 +95,16 @@ std::optional<ScanInput> MapperNode::WithOdometry(const sensor_msgs::LaserScan& 
   const ros::Time stamp = msg.header.stamp;
   const double stamp_s = stamp.toSec();
   if (msg.header.frame_id.empty()) throw std::runtime_error("the scan has no frame_id");
-  if (!tf_buffer_.canTransform(node_options_.base_frame, msg.header.frame_id, stamp)) {
+  if (!tf_buffer_->canTransform(node_options_.base_frame, msg.header.frame_id, stamp)) {
     return std::nullopt;
   }
   ScanInput input;
   if (node_options_.odom_topic.empty()) {
-    if (!tf_buffer_.canTransform(node_options_.odom_frame, node_options_.base_frame, stamp)) {
+    if (!tf_buffer_->canTransform(node_options_.odom_frame, node_options_.base_frame, stamp)) {
       return std::nullopt;
     }
     input.odom_T_base = FromRosTransform(
-        tf_buffer_.lookupTransform(node_options_.odom_frame, node_options_.base_frame, stamp)
+        tf_buffer_->lookupTransform(node_options_.odom_frame, node_options_.base_frame, stamp)
             .transform);
   } else {
     std::lock_guard<std::mutex> lock(odometry_mutex_);
@@ -114,7 +114,7 @@ std::optional<ScanInput> MapperNode::WithOdometry(const sensor_msgs::LaserScan& 
     input.odom_T_base = *pose;
   }
   input.base_T_laser = FromRosTransform(
-      tf_buffer_.lookupTransform(node_options_.base_frame, msg.header.frame_id, stamp).transform);
+      tf_buffer_->lookupTransform(node_options_.base_frame, msg.header.frame_id, stamp).transform);
   input.scan = FromRosScan(msg);
   return input;
 }

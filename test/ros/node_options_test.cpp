@@ -33,5 +33,15 @@ TEST(NodeOptions, InvalidValuesNameTheParameter) {
   EXPECT_NE(s.message().find("map_frame: must differ from odom_frame"), std::string::npos);
 }
 
+TEST(NodeOptions, TheTfHistoryMustOutlastTheOdometryWait) {
+  NodeOptions options;
+  EXPECT_TRUE(longterm_mapper2d::LoadOptionsFromYamlString("tf_cache_s: 30\n", options).ok());
+  EXPECT_DOUBLE_EQ(options.tf_cache_s, 30.0);
+  const auto s =
+      longterm_mapper2d::LoadOptionsFromYamlString("odometry_wait_s: 10\ntf_cache_s: 8\n", options);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("tf_cache_s: must exceed odometry_wait_s"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d_ros

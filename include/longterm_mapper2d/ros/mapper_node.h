@@ -116,7 +116,7 @@ class MapperNode {
   ros::CallbackQueue scan_callback_queue_;
   ros::NodeHandle scan_nh_;
   std::unique_ptr<ros::AsyncSpinner> scan_spinner_;
-  tf2_ros::Buffer tf_buffer_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;  // made in Start() with tf_cache_s of history
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;
   ros::Subscriber scan_subscriber_;

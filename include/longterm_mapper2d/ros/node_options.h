@@ -26,6 +26,10 @@ struct NodeOptions {
   // A scan waits for the odometry at its stamp until a scan this much newer (in stamp time) has
   // arrived; then it is dropped and counted. (The Radish logs have odometry gaps of up to 3 s.)
   double odometry_wait_s = 5.0;
+  // TF history kept (stamp time). A scan is looked up at its stamp when the scan thread comes to
+  // it, which under load (or a bag played fast) can be well after the stamp: a short history
+  // would drop scans whose transforms have already been forgotten. Must exceed odometry_wait_s.
+  double tf_cache_s = 60.0;
   // Relative service paths are resolved here; paths escaping it with ".." are refused.
   std::string map_folder = "maps";
   // A session map to continue at start-up ("" for a new map).
@@ -52,6 +56,7 @@ struct NodeOptions {
     v("map_update_interval_s", map_update_interval_s);
     v("scan_queue_size", scan_queue_size);
     v("odometry_wait_s", odometry_wait_s);
+    v("tf_cache_s", tf_cache_s);
     v("map_folder", map_folder);
     v("load_map", load_map);
     v("mode", mode);
@@ -68,6 +73,7 @@ struct NodeOptions {
     e.Require(map_update_interval_s > 0.0, "map_update_interval_s", "must be positive");
     e.Require(scan_queue_size >= 1, "scan_queue_size", "must be at least 1");
     e.Require(odometry_wait_s > 0.0, "odometry_wait_s", "must be positive");
+    e.Require(tf_cache_s > odometry_wait_s, "tf_cache_s", "must exceed odometry_wait_s");
     e.Require(!map_folder.empty(), "map_folder", "must not be empty");
     e.Require(mode == "mapping" || mode == "localization", "mode",
               "must be 'mapping' or 'localization'");
