@@ -46,6 +46,8 @@ RichPoint Fuse(const RichPoint& a, const RichPoint& b, double max_weight) {
   out.normal = norm > 1e-9 ? Eigen::Vector2d(normal / norm) : Eigen::Vector2d::Zero();
   out.weight = std::min(weight, max_weight);
   out.observations = std::min(a.observations + b.observations, kMaxObservations);
+  // Seen again from this node's own viewpoints: its own point, if placed partly by the merge.
+  out.inherited = a.inherited && b.inherited;
   return out;
 }
 

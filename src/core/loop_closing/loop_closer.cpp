@@ -1,6 +1,5 @@
 #include "longterm_mapper2d/core/loop_closing/loop_closer.h"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
@@ -80,59 +79,6 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
     }
   }
   return gated;
-}
-
-bool LoopCloser::Validates(const RegistrationValidation& v) const {
-  if (v.accepted) return true;
-  if (!options_.partial_overlap || v.correspondences < options_.min_correspondences ||
-      v.inlier_ratio < options_.partial_min_inlier_ratio) {
-    return false;
-  }
-  // Old surfaces hidden behind the new map's are not evidence either way; old surfaces in
-  // front of it, where the new map sees through, are.
-  return v.inliers >= options_.partial_min_agreement * (v.inliers + v.in_front);
-}
-
-LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& current,
-                                          const Pose2& guess) const {
-  const ProjectorGeometry geometry = ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
-  Nicp coarse(coarse_), fine(fine_);
-  Attempt attempt;
-  const RegistrationResult first =
-      coarse.AlignNearestNeighbour(reference, current, guess, geometry, Pose2(), std::nullopt);
-  if (!first.solved) return attempt;
-  const RegistrationResult second = fine.AlignNearestNeighbour(
-      reference, current, first.reference_T_current, geometry, Pose2(), std::nullopt);
-  if (!second.solved || !Validates(second.validation) || !second.reference_T_current.IsFinite()) {
-    return attempt;
-  }
-  // Degenerate geometry (a corridor) pins the alignment across but not along: refuse it. So is
-  // weak geometry that only a modest share of the new map agrees with: a slide along a corridor
-  // whose few cross features happen to match (intel: two consecutive nodes laid ~1 m along an
-  // old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; that run's validated alignments have
-  // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept.
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
-      second.information.topLeftCorner<2, 2>());
-  const Eigen::Vector2d lambda = eigen.eigenvalues();
-  const bool weak = lambda.x() < options_.weak_information_ratio * lambda.y() &&
-                    second.validation.inlier_ratio < options_.weak_min_inlier_ratio;
-  if (!(lambda.x() > options_.min_information_ratio * lambda.y()) || weak) {
-    attempt.degenerate = true;
-    return attempt;
-  }
-  attempt.pose = second.reference_T_current;
-  return attempt;
-}
-
-std::optional<Pose2> LoopCloser::AlignLocalMaps(const Cloud& reference, const Cloud& current,
-                                                const std::vector<Pose2>& guesses) {
-  degenerate_ = false;
-  for (const Pose2& guess : guesses) {
-    const Attempt attempt = AlignFrom(reference, current, guess);
-    degenerate_ |= attempt.degenerate;
-    if (attempt.pose) return attempt.pose;
-  }
-  return std::nullopt;
 }
 
 void LoopCloser::ChooseFallbacks(const PoseGraph& graph, GraphNodeId node,

@@ -8,6 +8,9 @@
 namespace longterm_mapper2d {
 namespace {
 
+// Per-point flag bits (version 5).
+constexpr std::uint8_t kPointInherited = 1;
+
 constexpr char kMagic[8] = {'L', 'T', 'M', 'A', 'P', '2', 'D', '\n'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 4;
 constexpr std::size_t kMaxFrameIdBytes = 256;
@@ -49,9 +52,9 @@ bool ReadScan(BinaryReader& r, LaserScan& scan) {
   std::uint64_t beams = 0;
   if (!r.Read(scan.stamp_s, "scan stamp") ||
       !r.ReadString(scan.frame_id, kMaxFrameIdBytes, "scan frame id") ||
-      !r.Read(scan.angle_min_rad, "scan angle") || !r.Read(scan.angle_increment_rad, "scan angle") ||
-      !r.Read(scan.range_min_m, "scan range") || !r.Read(scan.range_max_m, "scan range") ||
-      !r.ReadCount(beams, sizeof(float), "scan beams")) {
+      !r.Read(scan.angle_min_rad, "scan angle") ||
+      !r.Read(scan.angle_increment_rad, "scan angle") || !r.Read(scan.range_min_m, "scan range") ||
+      !r.Read(scan.range_max_m, "scan range") || !r.ReadCount(beams, sizeof(float), "scan beams")) {
     return false;
   }
   scan.ranges.resize(beams);
@@ -81,6 +84,7 @@ std::string SerializeSessionMap(const SessionMap& map) {
       payload.Write(p.normal.x());
       payload.Write(p.normal.y());
       payload.Write(p.weight);
+      payload.Write<std::uint8_t>(p.inherited ? kPointInherited : 0);
     }
     payload.Write<std::uint64_t>(node.waypoints.size());
     for (const Waypoint& w : node.waypoints) {
@@ -138,8 +142,8 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
   }
   if (version == 0) return fail("invalid format version 0");
   if (payload_size != bytes.size() - kHeaderBytes) {
-    return fail("payload is " + std::to_string(bytes.size() - kHeaderBytes) + " bytes, header says " +
-                std::to_string(payload_size) + " (truncated or extended)");
+    return fail("payload is " + std::to_string(bytes.size() - kHeaderBytes) +
+                " bytes, header says " + std::to_string(payload_size) + " (truncated or extended)");
   }
   const char* body = bytes.data() + kHeaderBytes;
   if (Crc32(body, payload_size) != crc) return fail("checksum mismatch (corrupted)");
@@ -165,7 +169,8 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     r.Read(session, "node session");
     r.Read(node.stamp_s, "node stamp");
     ReadPose(r, node.map_T_node, "node pose");
-    r.ReadCount(points, 5 * sizeof(double), "cloud points");
+    const std::size_t point_bytes = 5 * sizeof(double) + (version >= 5 ? 1 : 0);
+    r.ReadCount(points, point_bytes, "cloud points");
     if (!r.ok()) break;
     node.id = id;
     node.session_id = session;
@@ -176,6 +181,12 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
       p.point_m = Eigen::Vector2d(v[0], v[1]);
       p.normal = Eigen::Vector2d(v[2], v[3]);
       p.weight = v[4];
+      // Before version 5 points had no flags: all the node's own.
+      std::uint8_t flags = 0;
+      if (version >= 5 && r.Read(flags, "cloud point flags") && (flags & ~kPointInherited) != 0) {
+        r.Fail("unknown cloud point flags " + std::to_string(flags));
+      }
+      p.inherited = (flags & kPointInherited) != 0;
     }
     r.ReadCount(waypoints, 100, "waypoints");  // two poses and an empty scan
     if (!r.ok()) break;
@@ -220,7 +231,8 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     }
     if (!r.ok()) break;
     if (kind > static_cast<std::uint8_t>(EdgeKind::kCondensed)) return fail("unknown edge kind");
-    if (!map.nodes.count(from) || !map.nodes.count(to)) return fail("edge refers to a missing node");
+    if (!map.nodes.count(from) || !map.nodes.count(to))
+      return fail("edge refers to a missing node");
     e.from = from;
     e.to = to;
     e.kind = static_cast<EdgeKind>(kind);

@@ -36,6 +36,8 @@ LocalMapMergeStats LocalMapMerger::Merge(const LocalMapNode& old_node, const Pos
                                          LocalMapNode* new_node) {
   LocalMapMergeStats stats;
   Cloud merged = Transform(new_T_old, old_node.cloud);
+  // The old map's points are the new node's by inheritance until its own scans see them again.
+  for (RichPoint& point : merged) point.inherited = true;
 
   for (const Waypoint& w : new_node->waypoints) {
     if (w.scan.ranges.empty()) continue;

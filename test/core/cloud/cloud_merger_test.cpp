@@ -217,6 +217,26 @@ TEST(CloudMerger, FusedWeightsSaturate) {
   EXPECT_DOUBLE_EQ(Fuse(a, b, 1000.0).weight, 1000.0);
 }
 
+TEST(CloudMerger, APointSeenAgainIsNoLongerInherited) {
+  RichPoint inherited = PointAhead(1.0), own = PointAhead(1.0);
+  inherited.inherited = true;
+  EXPECT_FALSE(Fuse(inherited, own, 1000.0).inherited);
+  EXPECT_FALSE(Fuse(own, inherited, 1000.0).inherited);
+  EXPECT_TRUE(Fuse(inherited, inherited, 1000.0).inherited);
+
+  // In a merge: the old point the new return fuses with becomes the map's own; one the scan did
+  // not observe stays inherited.
+  Cloud map = {PointAhead(4.0, 0.0, 0.25), PointAhead(5.0, 20.0, 0.2)};
+  for (RichPoint& p : map) p.inherited = true;
+  const LaserScan scan = FiveBeams({kNoReturn, kNoReturn, 4.05f, kNoReturn, kNoReturn});
+  const NewData data = PointsOf(scan);
+  CloudMerger merger(NoThinning());
+  EXPECT_EQ(merger.Merge(map, data.points, data.beams, scan, Pose2(), 30.0).fused, 1);
+  ASSERT_EQ(map.size(), 2u);
+  for (const RichPoint& p : map)
+    EXPECT_EQ(p.inherited, p.point_m.y() != 0.0) << p.point_m.transpose();
+}
+
 TEST(CloudMerger, APersonCrossingACorridorLeavesNoTrace) {
   // A corridor seen by a laser that stands still in it; a person walks across in front of it.
   const auto corridor = test_support::Corridor();

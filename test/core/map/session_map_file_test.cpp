@@ -27,6 +27,7 @@ SessionMap SmallMap() {
       p.point_m = Eigen::Vector2d(k, 0.3 * k);
       p.normal = Eigen::Vector2d(0.6, 0.8);
       p.weight = 1.0 / (k + 1);
+      p.inherited = id == 7 && k >= 3;  // merged in from an older node
       node.cloud.push_back(p);
     }
     Waypoint w;
@@ -71,6 +72,9 @@ TEST(SessionMapFile, RoundTripIsByteIdentical) {
   EXPECT_EQ(parsed->edges.size(), 2u);
   EXPECT_EQ(parsed->edges[1].kind, EdgeKind::kLoopClosure);
   EXPECT_EQ(parsed->nodes.at(7).session_id, 1);
+  EXPECT_FALSE(parsed->nodes.at(7).cloud[2].inherited);
+  EXPECT_TRUE(parsed->nodes.at(7).cloud[3].inherited);
+  EXPECT_FALSE(parsed->nodes.at(4).cloud[3].inherited);
   EXPECT_EQ(parsed->nodes.at(4).waypoints[0].scan.ranges.size(), 4u);
   ASSERT_EQ(parsed->nodes.at(7).waypoints.size(), 2u);
   EXPECT_EQ(parsed->nodes.at(7).waypoints[0].session_id, 1);
@@ -140,8 +144,9 @@ TEST(SessionMapFile, AnAbsurdNodeCountDoesNotAllocate) {
 }
 
 // A one-node map with one waypoint, and its payload in the layout of an older format version:
-// version 3 lacks the removed nodes (their count of 0 ends the payload), version 2 also the
-// waypoint's session (4 bytes after its two poses), version 1 also the origin.
+// version 4 lacks the points' flags (a byte after each point's five doubles), version 3 also the
+// removed nodes (their count of 0 ends the payload), version 2 also the waypoint's session (4
+// bytes after its two poses), version 1 also the origin.
 SessionMap OneNodeMap() {
   SessionMap map = SmallMap();
   map.nodes.erase(4);
@@ -159,8 +164,12 @@ std::string OlderPayload(const SessionMap& map, std::uint32_t version) {
   constexpr std::size_t kHeader = 24, kOriginAt = kHeader + 4 + 8;
   const std::size_t node_at = kOriginAt + 24 + 8;
   const std::size_t points = map.nodes.begin()->second.cloud.size();
-  const std::size_t waypoint_session_at = node_at + 8 + 4 + 8 + 24 + 8 + 40 * points + 8 + 48;
-  std::string body = current.substr(kHeader, current.size() - kHeader - 8);
+  const std::size_t points_at = node_at + 8 + 4 + 8 + 24 + 8;
+  const std::size_t waypoint_session_at = points_at + 40 * points + 8 + 48;  // without flags
+  std::string body = current.substr(kHeader, current.size() - kHeader - (version <= 3 ? 8 : 0));
+  if (version <= 4) {
+    for (std::size_t k = points; k-- > 0;) body.erase(points_at + 41 * k + 40 - kHeader, 1);
+  }
   if (version <= 2) body.erase(waypoint_session_at - kHeader, 4);
   if (version == 1) body.erase(kOriginAt - kHeader, 24);
   return body;
@@ -201,6 +210,30 @@ TEST(SessionMapFile, VersionThreeFilesLoadWithoutRemovedNodes) {
   EXPECT_TRUE(v3->removed_nodes.empty());
   EXPECT_EQ(v3->nodes.at(3).waypoints.at(0).session_id, 0);
   EXPECT_EQ(SerializeSessionMap(*v3), SerializeSessionMap(map));
+}
+
+TEST(SessionMapFile, PointsOfVersionFourFilesAreAllTheirNodesOwn) {
+  SessionMap map = OneNodeMap();
+  for (RichPoint& p : map.nodes.at(3).cloud) p.inherited = true;  // no flags in version 4
+  const auto v4 = ParseSessionMap(FileWith(4, OlderPayload(map, 4)), "v4.ltmap");
+  ASSERT_TRUE(v4.ok()) << v4.status().message();
+  ASSERT_EQ(v4->nodes.at(3).cloud.size(), map.nodes.at(3).cloud.size());
+  for (const RichPoint& p : v4->nodes.at(3).cloud) EXPECT_FALSE(p.inherited);
+  EXPECT_NEAR(v4->nodes.at(3).cloud[4].weight, 0.2, 1e-12);
+  EXPECT_EQ(v4->nodes.at(3).waypoints.at(0).session_id, 0);
+}
+
+TEST(SessionMapFile, UnknownPointFlagsAreRefused) {
+  const SessionMap map = OneNodeMap();
+  constexpr std::size_t kHeader = 24;
+  std::string body = SerializeSessionMap(map).substr(kHeader);
+  const std::size_t first_flags = 4 + 8 + 24 + 8 + 8 + 4 + 8 + 24 + 8 + 40;
+  ASSERT_EQ(body[first_flags], 0);
+  body[first_flags] = 2;
+  const auto parsed = ParseSessionMap(FileWith(kSessionMapVersion, body), "flags.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("unknown cloud point flags"), std::string::npos)
+      << parsed.status().message();
 }
 
 TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {

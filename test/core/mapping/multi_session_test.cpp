@@ -123,6 +123,40 @@ TEST(MultiSession, MaintenanceKeepsTheGraphTheSizeOfTheRoom) {
   EXPECT_LT(nodes[1][2], 1.5 * nodes[1][0]) << nodes[1][0] << " -> " << nodes[1][2];
 }
 
+TEST(MultiSession, MergedLocalMapsKnowWhichPointsTheyInherited) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  const SessionResult first = MapSession(*world, 1, nullptr, WithMaintenance(false));
+  for (const auto& [id, node] : first.map.nodes) {
+    for (const RichPoint& p : node.cloud) ASSERT_FALSE(p.inherited) << "node " << id;
+  }
+  const SessionResult second = MapSession(*world, 2, &first.map);
+  ASSERT_GT(second.merges, 0u);
+  // A survivor of a merge holds the old map's points its own scans did not see again, and
+  // enough of its own for closures to align by them (LoopClosingOptions::own_points_min).
+  int survivors = 0;
+  for (const auto& [id, node] : second.map.nodes) {
+    const auto inherited = std::count_if(node.cloud.begin(), node.cloud.end(),
+                                         [](const RichPoint& p) { return p.inherited; });
+    if (inherited == 0) continue;
+    ++survivors;
+    EXPECT_EQ(node.session_id, 1) << "node " << id;
+    EXPECT_GE(static_cast<int>(node.cloud.size() - inherited), LoopClosingOptions{}.own_points_min)
+        << "node " << id;
+  }
+  EXPECT_GT(survivors, 0);
+  // Through the file, as between days.
+  const auto reloaded = ParseSessionMap(SerializeSessionMap(second.map), "session2.ltmap");
+  ASSERT_TRUE(reloaded.ok());
+  for (const auto& [id, node] : second.map.nodes) {
+    const Cloud& loaded = reloaded->nodes.at(id).cloud;
+    ASSERT_EQ(loaded.size(), node.cloud.size());
+    for (std::size_t i = 0; i < loaded.size(); ++i) {
+      EXPECT_EQ(loaded[i].inherited, node.cloud[i].inherited);
+    }
+  }
+}
+
 // A loaded map whose gauge node is off where its edges put it (merges hand the gauge on to a
 // survivor with its estimate, error included; in the long patrol's hour 6 it ended up 25 degrees
 // off the rest). Held by the gauge, the whole map moves to it at the first optimisation; held by

@@ -21,6 +21,10 @@ struct RichPoint {
   Eigen::Vector2d normal = Eigen::Vector2d::Zero();
   double weight = 1.0;
   int observations = 1;
+  // Came with a local map merged into this one and not observed again from this node's own
+  // viewpoints: it stands where the merge's relative pose put it, not where this node's scans
+  // saw it (see LoopClosingOptions::align_own_points).
+  bool inherited = false;
 
   bool has_normal() const { return normal.squaredNorm() > 0.5; }
 };

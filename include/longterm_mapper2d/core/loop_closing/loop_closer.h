@@ -78,6 +78,9 @@ class LoopCloser {
     bool degenerate = false;
   };
   Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
+  // The points of a local map that alignments use (LoopClosingOptions::align_own_points): its
+  // own points, copied into `own`, or the whole cloud.
+  const Cloud& ClosurePoints(const Cloud& cloud, Cloud* own) const;
   // Whether a fine alignment's validation (from the new node) passes, partial overlap included
   // (LoopClosingOptions::partial_overlap).
   bool Validates(const RegistrationValidation& validation) const;

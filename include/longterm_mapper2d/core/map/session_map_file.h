@@ -31,17 +31,19 @@ struct SessionMap {
   std::map<NodeId, RemovedNode> removed_nodes;
 };
 
-// The session map file (.ltmap), version 4, little-endian:
-//   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
-//   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
-//   take the first node's pose), nodes, edges (counts as uint64, values as written by
+// The session map file (.ltmap), version 5, little-endian:
+//   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the
+//   payload payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none
+//   and take the first node's pose), nodes, edges (counts as uint64, values as written by
 //   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle). Each waypoint
 //   carries its own int32 session after its two poses since version 3 (older files: the node's).
 //   Since version 4 the removed nodes follow the edges: a count, then per node int64 id, int64
-//   survivor and the pose survivor_T_removed (older files: none).
+//   survivor and the pose survivor_T_removed (older files: none). Since version 5 each cloud
+//   point's five doubles are followed by a uint8 of flags, bit 0 RichPoint::inherited (older
+//   files: 0, every point the node's own).
 // Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
 // allocation. Serialising a parsed map gives the same bytes.
-constexpr std::uint32_t kSessionMapVersion = 4;
+constexpr std::uint32_t kSessionMapVersion = 5;
 std::string SerializeSessionMap(const SessionMap& map);
 StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
 
