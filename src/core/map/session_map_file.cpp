@@ -52,9 +52,9 @@ bool ReadScan(BinaryReader& r, LaserScan& scan) {
   std::uint64_t beams = 0;
   if (!r.Read(scan.stamp_s, "scan stamp") ||
       !r.ReadString(scan.frame_id, kMaxFrameIdBytes, "scan frame id") ||
-      !r.Read(scan.angle_min_rad, "scan angle") ||
-      !r.Read(scan.angle_increment_rad, "scan angle") || !r.Read(scan.range_min_m, "scan range") ||
-      !r.Read(scan.range_max_m, "scan range") || !r.ReadCount(beams, sizeof(float), "scan beams")) {
+      !r.Read(scan.angle_min_rad, "scan angle") || !r.Read(scan.angle_increment_rad, "scan angle") ||
+      !r.Read(scan.range_min_m, "scan range") || !r.Read(scan.range_max_m, "scan range") ||
+      !r.ReadCount(beams, sizeof(float), "scan beams")) {
     return false;
   }
   scan.ranges.resize(beams);
@@ -142,8 +142,8 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
   }
   if (version == 0) return fail("invalid format version 0");
   if (payload_size != bytes.size() - kHeaderBytes) {
-    return fail("payload is " + std::to_string(bytes.size() - kHeaderBytes) +
-                " bytes, header says " + std::to_string(payload_size) + " (truncated or extended)");
+    return fail("payload is " + std::to_string(bytes.size() - kHeaderBytes) + " bytes, header says " +
+                std::to_string(payload_size) + " (truncated or extended)");
   }
   const char* body = bytes.data() + kHeaderBytes;
   if (Crc32(body, payload_size) != crc) return fail("checksum mismatch (corrupted)");
@@ -231,8 +231,7 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     }
     if (!r.ok()) break;
     if (kind > static_cast<std::uint8_t>(EdgeKind::kCondensed)) return fail("unknown edge kind");
-    if (!map.nodes.count(from) || !map.nodes.count(to))
-      return fail("edge refers to a missing node");
+    if (!map.nodes.count(from) || !map.nodes.count(to)) return fail("edge refers to a missing node");
     e.from = from;
     e.to = to;
     e.kind = static_cast<EdgeKind>(kind);

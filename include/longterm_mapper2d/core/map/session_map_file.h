@@ -32,9 +32,9 @@ struct SessionMap {
 };
 
 // The session map file (.ltmap), version 5, little-endian:
-//   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the
-//   payload payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none
-//   and take the first node's pose), nodes, edges (counts as uint64, values as written by
+//   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
+//   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
+//   take the first node's pose), nodes, edges (counts as uint64, values as written by
 //   BinaryWriter; poses as x, y, theta doubles; information as its upper triangle). Each waypoint
 //   carries its own int32 session after its two poses since version 3 (older files: the node's).
 //   Since version 4 the removed nodes follow the edges: a count, then per node int64 id, int64
