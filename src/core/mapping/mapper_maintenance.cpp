@@ -9,6 +9,7 @@
 #include "longterm_mapper2d/core/graph/edge_pruning.h"
 #include "longterm_mapper2d/core/graph/optimizer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
+#include "longterm_mapper2d/core/mapping/merge_extent.h"
 #include "longterm_mapper2d/core/mapping/waypoint_thinning.h"
 
 namespace longterm_mapper2d {
@@ -59,7 +60,13 @@ void Mapper::MergeReadySets() {
     for (NodeId id : ids) {
       if (nodes_.count(id)) present.push_back(id);
     }
-    if (present.size() >= 2) MergeSet(present);  // ids come sorted from the map
+    // Members too far from the survivor stay nodes of their own; their pairs leave the queue.
+    const std::vector<NodeId> within =
+        MergeMembersWithinExtent(nodes_, present, options_.maintenance.merge_max_extent_m);
+    if (within.size() < present.size()) {
+      stats_.counters["merge_members_beyond_extent"] += present.size() - within.size();
+    }
+    if (within.size() >= 2) MergeSet(within);  // ids come sorted from the map
   }
   merge_queue_ = std::move(waiting);
   merge_queue_.insert(merge_queue_.end(), requeued_merges_.begin(), requeued_merges_.end());

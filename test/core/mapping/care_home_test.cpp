@@ -14,6 +14,7 @@
 #include "longterm_mapper2d/core/evaluation/map_comparison.h"
 #include "longterm_mapper2d/core/map/grid_renderer.h"
 #include "longterm_mapper2d/core/mapping/mapper.h"
+#include "longterm_mapper2d/core/mapping/merge_extent.h"
 #include "longterm_mapper2d/core/simulation/session_simulator.h"
 #include "testing/simulated_mapping.h"
 
@@ -26,6 +27,8 @@ struct CareHomeSession {
   MapComparison quality;
   double rmse_m = 0.0;
   int nodes = 0;
+  double max_reach_m = 0.0;  // the farthest waypoint of any node from its node's origin
+  std::uint64_t members_beyond_extent = 0;
 };
 
 // One whole patrol (430 s) of session `session`, on top of `previous` when given.
@@ -56,6 +59,11 @@ CareHomeSession MapCareHomeSession(const World& world, int session, const Sessio
   result.quality = *quality;
   result.nodes = static_cast<int>(mapper.graph().nodes().size());
   result.map = mapper.ExportSession();
+  for (const auto& [id, node] : result.map.nodes) {
+    result.max_reach_m = std::max(result.max_reach_m, ReachFrom(node, node));
+  }
+  const auto beyond = mapper.stats().counters.find("merge_members_beyond_extent");
+  if (beyond != mapper.stats().counters.end()) result.members_beyond_extent = beyond->second;
   std::printf(
       "session %d, seed %llu: precision %.3f (on a true cell %.3f) recall %.3f phantom cells "
       "%lld, trajectory RMSE %.3f m, %d nodes\n",
@@ -186,6 +194,23 @@ TEST(CareHome, FurnitureChangesAreTakenInAndTheGraphStaysTheSizeOfTheFloor) {
   EXPECT_LE(third.nodes, 1.3 * first.nodes);
   EXPECT_GE(third.quality.precision, 0.95);
   EXPECT_LT(third.rmse_m, 0.05);
+}
+
+// maintenance.merge_max_extent_m: merged local maps stay local. Unbounded, the patrol's survivors
+// hold scans up to 19-22 m from their origins.
+TEST(CareHome, MergedLocalMapsStayWithinTheirExtentWhenBounded) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/care_home.yaml");
+  ASSERT_TRUE(world.ok()) << world.status().message();
+  MapperOptions bounded;
+  bounded.maintenance.merge_max_extent_m = 8.0;
+  const CareHomeSession unbounded_session = MapCareHomeSession(*world, 1, nullptr, 1);
+  const CareHomeSession bounded_session = MapCareHomeSession(*world, 1, nullptr, 1, bounded);
+  EXPECT_GT(unbounded_session.max_reach_m, 12.0);
+  EXPECT_EQ(unbounded_session.members_beyond_extent, 0u);
+  EXPECT_LE(bounded_session.max_reach_m, 8.0);
+  EXPECT_GT(bounded_session.members_beyond_extent, 0u);
+  EXPECT_LT(bounded_session.rmse_m, 0.05);
+  EXPECT_GE(bounded_session.quality.precision, 0.95);
 }
 
 }  // namespace
