@@ -99,7 +99,8 @@ struct MaintenanceOptions {
               "must be in [0, 1)");
     e.Require(optimizer_iterations >= 1, "optimizer_iterations", "must be at least 1");
     e.Require(merge_delay_nodes >= 0, "merge_delay_nodes", "must be non-negative");
-    e.Require(merge_max_extent_m >= 0.0, "merge_max_extent_m", "must be non-negative (0: no limit)");
+    e.Require(merge_max_extent_m >= 0.0, "merge_max_extent_m",
+              "must be non-negative (0: no limit)");
   }
 };
 
