@@ -172,7 +172,7 @@ RegistrationResult Nicp::AlignProjective(const Cloud& reference, const Cloud& cu
 RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Cloud& current,
                                                const Pose2& guess,
                                                const ProjectorGeometry& geometry,
-                                               const Pose2& validation_viewpoint,
+                                               const std::optional<Pose2>& validation_viewpoint,
                                                const std::optional<PosePrior>& prior) {
   const NearestNeighbourGrid grid(reference, options_.max_correspondence_distance_m);
   auto find_pairs = [&](const Pose2& T, double cos_max_angle, double max_distance_sq) {
@@ -188,8 +188,10 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
     }
   };
   RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
-  result.validation =
-      Validate(reference, current, result.reference_T_current, validation_viewpoint, geometry);
+  if (validation_viewpoint) {
+    result.validation =
+        Validate(reference, current, result.reference_T_current, *validation_viewpoint, geometry);
+  }
   return result;
 }
 

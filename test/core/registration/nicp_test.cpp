@@ -68,6 +68,13 @@ TEST(Nicp, NearestNeighbourAlignsWithALargeRotationError) {
   EXPECT_LT((result.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
   EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 1e-4);
   EXPECT_TRUE(result.validation.accepted);
+  // Without a viewpoint the same pose, not validated (the loop closer's coarse step).
+  const auto unvalidated = nicp.AlignNearestNeighbour(
+      s.reference, s.current, Pose2(), ProjectorGeometry::FullCircle(720, 30.0), std::nullopt,
+      std::nullopt);
+  EXPECT_LT((unvalidated.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
+  EXPECT_FALSE(unvalidated.validation.accepted);
+  EXPECT_EQ(unvalidated.validation.correspondences, 0);
 }
 
 TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {

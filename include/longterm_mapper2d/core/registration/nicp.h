@@ -68,10 +68,12 @@ class Nicp {
   // Nearest-neighbour association through a grid over the reference (NearestNeighbourGrid): for
   // map-to-map alignment (local maps of loop closures and merges), where there is no single
   // viewpoint.
-  // Validation projects both clouds from `validation_viewpoint` (in the reference frame).
+  // Validation projects both clouds from `validation_viewpoint` (in the reference frame); without
+  // one the result is not validated (`validation` stays default: not accepted), for a caller that
+  // validates otherwise or only wants the pose.
   RegistrationResult AlignNearestNeighbour(const Cloud& reference, const Cloud& current,
                                            const Pose2& guess, const ProjectorGeometry& geometry,
-                                           const Pose2& validation_viewpoint,
+                                           const std::optional<Pose2>& validation_viewpoint,
                                            const std::optional<PosePrior>& prior);
 
   // The validation of §3.4: both clouds seen from `viewpoint` (reference frame), bin by bin.
