@@ -101,6 +101,10 @@ GraphEdge FuseEdges(const GraphEdge& a, const GraphEdge& b) {
   const Eigen::Vector3d delta_a = b.measurement.Between(a.measurement).vector();
   const Eigen::Vector3d delta = fused.information.ldlt().solve(a.information * delta_a);
   fused.measurement = b.measurement * Pose2::FromVector(delta);
+  if (a.gating_information || b.gating_information) {
+    fused.gating_information = Symmetric(a.gating_information.value_or(a.information) +
+                                         b.gating_information.value_or(b.information));
+  }
   return fused;
 }
 

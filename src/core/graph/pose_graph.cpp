@@ -27,7 +27,8 @@ Status PoseGraph::AddEdge(const GraphEdge& edge) {
                          " refers to a missing node");
   }
   if (edge.from == edge.to) return Status::Error("edge joins node " + std::to_string(edge.from) + " to itself");
-  if (!edge.measurement.IsFinite() || !edge.information.allFinite()) {
+  if (!edge.measurement.IsFinite() || !edge.information.allFinite() ||
+      (edge.gating_information && !edge.gating_information->allFinite())) {
     return Status::Error("edge " + std::to_string(edge.from) + " -> " + std::to_string(edge.to) +
                          " is not finite");
   }
@@ -67,6 +68,16 @@ Status PoseGraph::SetGauge(GraphNodeId id) {
   if (!nodes_.count(id)) return Status::Error("gauge node " + std::to_string(id) + " is missing");
   gauge_ = id;
   return Status::Ok();
+}
+
+std::optional<PoseGraph> WithGatingInformation(const PoseGraph& graph) {
+  const auto has_gating = [](const GraphEdge& e) { return e.gating_information.has_value(); };
+  if (std::none_of(graph.edges().begin(), graph.edges().end(), has_gating)) return std::nullopt;
+  PoseGraph gating = graph;
+  for (GraphEdge& e : gating.mutable_edges()) {
+    if (e.gating_information) e.information = *e.gating_information;
+  }
+  return gating;
 }
 
 }  // namespace longterm_mapper2d

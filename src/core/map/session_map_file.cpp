@@ -21,6 +21,23 @@ void WritePose(BinaryWriter& w, const Pose2& pose) {
   w.Write(pose.theta());
 }
 
+// A symmetric 3x3 matrix: its upper triangle, row by row.
+void WriteUpperTriangle(BinaryWriter& w, const Eigen::Matrix3d& m) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) w.Write(m(i, j));
+  }
+}
+
+bool ReadUpperTriangle(BinaryReader& r, Eigen::Matrix3d& m, const char* what) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      if (!r.Read(m(i, j), what)) return false;
+      m(j, i) = m(i, j);
+    }
+  }
+  return true;
+}
+
 bool ReadPose(BinaryReader& r, Pose2& pose, const char* what) {
   double x, y, theta;
   if (!r.Read(x, what) || !r.Read(y, what) || !r.Read(theta, what)) return false;
@@ -102,9 +119,9 @@ std::string SerializeSessionMap(const SessionMap& map) {
     payload.Write<std::int32_t>(e.session_id);
     payload.Write(e.stamp_s);
     WritePose(payload, e.measurement);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = i; j < 3; ++j) payload.Write(e.information(i, j));
-    }
+    WriteUpperTriangle(payload, e.information);
+    payload.Write<std::uint8_t>(e.gating_information ? 1 : 0);
+    if (e.gating_information) WriteUpperTriangle(payload, *e.gating_information);
   }
   payload.Write<std::uint64_t>(map.removed_nodes.size());
   for (const auto& [id, removed] : map.removed_nodes) {
@@ -223,13 +240,21 @@ StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string
     r.Read(session, "edge session");
     r.Read(e.stamp_s, "edge stamp");
     ReadPose(r, e.measurement, "edge measurement");
-    for (int i = 0; i < 3; ++i) {
-      for (int j = i; j < 3; ++j) {
-        r.Read(e.information(i, j), "edge information");
-        e.information(j, i) = e.information(i, j);
-      }
+    ReadUpperTriangle(r, e.information, "edge information");
+    // Before version 6 edges had one information only.
+    std::uint8_t has_gating = 0;
+    if (version >= 6 && r.Read(has_gating, "edge gating flag") && has_gating > 1) {
+      return fail("invalid gating flag of edge " + std::to_string(n));
+    }
+    if (has_gating) {
+      e.gating_information.emplace();
+      ReadUpperTriangle(r, *e.gating_information, "edge gating information");
     }
     if (!r.ok()) break;
+    if (!e.information.allFinite() ||
+        (e.gating_information && !e.gating_information->allFinite())) {
+      return fail("non-finite information of edge " + std::to_string(n));
+    }
     if (kind > static_cast<std::uint8_t>(EdgeKind::kCondensed)) return fail("unknown edge kind");
     if (!map.nodes.count(from) || !map.nodes.count(to)) return fail("edge refers to a missing node");
     e.from = from;

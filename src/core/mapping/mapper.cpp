@@ -105,6 +105,8 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
     const Eigen::Matrix3d j2 = ComposeJacobianRight(node_T_previous, step);
     stretch_covariance_ =
         j1 * stretch_covariance_ * j1.transpose() + j2 * tracked.step_covariance * j2.transpose();
+    stretch_gating_covariance_ = j1 * stretch_gating_covariance_ * j1.transpose() +
+                                 j2 * tracked.gating_step_covariance * j2.transpose();
     stretch_after_failure_ |= failed;
   }
   ++stats_.scans_processed;
@@ -149,7 +151,10 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   node.session_id = session_id_;
   node.stamp_s = stamp_s;
   node.map_T_node = MapTTracker() * tracker_T_base;
-  if (!origin_) origin_ = node.map_T_node;
+  if (!origin_node_) {
+    origin_node_ = node.id;
+    node_T_origin_ = Pose2();
+  }
   CleanFinishedNode();
   const Pose2 node_T_tracker = tracker_T_base.inverse();
   node.cloud = Transform(node_T_tracker, tracker_.local_map());
@@ -171,15 +176,20 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
     edge.from = *last_node_;
     edge.to = node.id;
     edge.from_T_to = tracker_T_node_.at(*last_node_).Between(tracker_T_base);
-    Eigen::Matrix3d covariance = stretch_covariance_;
     // A stretch of skipped scans only has no motion and no uncertainty; keep it invertible.
-    covariance += 1e-9 * Eigen::Matrix3d::Identity();
-    edge.information = covariance.inverse();
-    edge.information = 0.5 * (edge.information + edge.information.transpose());
+    const auto information = [](const Eigen::Matrix3d& covariance) {
+      const Eigen::Matrix3d inverse = (covariance + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
+      return Eigen::Matrix3d(0.5 * (inverse + inverse.transpose()));
+    };
+    edge.information = information(stretch_covariance_);
+    if (options_.tracker.tight_odometry_edges) {
+      edge.gating_information = information(stretch_gating_covariance_);
+    }
     edge.after_tracker_failure = after_failure;
     edges_.push_back(edge);
   }
   stretch_covariance_.setZero();
+  stretch_gating_covariance_.setZero();
   stretch_after_failure_ = false;
   if (after_failure && !doubtful_since_) doubtful_since_ = node.id;
   tracker_T_node_[node.id] = tracker_T_base;
@@ -196,6 +206,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
     edge.to = node.id;
     edge.measurement = edges_.back().from_T_to;
     edge.information = edges_.back().information;
+    edge.gating_information = edges_.back().gating_information;
     edge.kind = EdgeKind::kOdometry;
     edge.session_id = session_id_;
     edge.stamp_s = node.stamp_s;
@@ -312,18 +323,12 @@ Status Mapper::LoadSession(const SessionMap& map, const std::optional<Pose2>& in
   for (const auto& [id, node] : nodes_) frame_anchors_[id] = node.map_T_node;
   session_id_ = map.sessions;
   next_node_id_ = map.nodes.rbegin()->first + 1;
-  origin_ = map.origin;
+  origin_node_ = NearestNode(map.origin);
+  node_T_origin_ = nodes_.at(*origin_node_).map_T_node.Between(map.origin);
   const Pose2 start = initial_pose ? *initial_pose : map.origin;
   initial_map_T_base_ = start;
   // The session hangs off the loaded node nearest to where it starts.
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& [id, node] : nodes_) {
-    const double d = (node.map_T_node.translation() - start.translation()).norm();
-    if (d < best) {
-      best = d;
-      session_anchor_ = id;
-    }
-  }
+  session_anchor_ = NearestNode(start);
   stats_.counters["nodes"] = nodes_.size();
   return Status::Ok();
 }
@@ -334,9 +339,31 @@ SessionMap Mapper::ExportSession() const {
   map.nodes = nodes_;
   map.edges = graph_.edges();
   map.gauge = graph_.gauge().value_or(nodes_.empty() ? 0 : nodes_.begin()->first);
-  map.origin = origin_.value_or(Pose2());
+  map.origin = OriginInMap();
   map.removed_nodes = removed_nodes_;
   return map;
+}
+
+NodeId Mapper::NearestNode(const Pose2& map_T_pose) const {
+  NodeId nearest = nodes_.begin()->first;
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [id, node] : nodes_) {
+    const double d = (node.map_T_node.translation() - map_T_pose.translation()).norm();
+    if (d < best) {
+      best = d;
+      nearest = id;
+    }
+  }
+  return nearest;
+}
+
+Pose2 Mapper::OriginInMap() const {
+  if (!origin_node_) return Pose2();
+  if (const auto node = nodes_.find(*origin_node_); node != nodes_.end()) {
+    return node->second.map_T_node * node_T_origin_;
+  }
+  const RemovedNode& removed = removed_nodes_.at(*origin_node_);
+  return nodes_.at(removed.survivor).map_T_node * removed.survivor_T_removed * node_T_origin_;
 }
 
 Cloud Mapper::LocalMapInMap() const { return Transform(MapTTracker(), tracker_.local_map()); }

@@ -2,7 +2,6 @@
 // nearest map nodes now and then, and map -> tracker follows the alignments.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "longterm_mapper2d/core/mapping/mapper.h"
 
@@ -38,18 +37,12 @@ Status Mapper::SetMode(MapperMode mode) {
     initial_map_T_base_.reset();
     last_node_.reset();
     const Pose2 map_T_base = map_T_tracker * last_tracker_T_base_;
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& [id, node] : nodes_) {
-      const double d = (node.map_T_node.translation() - map_T_base.translation()).norm();
-      if (d < best) {
-        best = d;
-        session_anchor_ = id;
-      }
-    }
+    if (!nodes_.empty()) session_anchor_ = NearestNode(map_T_base);
   }
   pending_waypoints_.clear();
   last_waypoint_tracker_T_base_.reset();
   stretch_covariance_.setZero();
+  stretch_gating_covariance_.setZero();
   stretch_after_failure_ = false;
   first_pending_entry_ = trajectory_.size();
   return Status::Ok();

@@ -1,6 +1,8 @@
 #include "longterm_mapper2d/core/mapping/tracker.h"
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 #include "longterm_mapper2d/core/cloud/range_projector.h"
@@ -219,6 +221,7 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
   const Pose2 guess = previous_tracker_T_base * odometry_step;
   result.tracker_T_base = guess;
   result.step_covariance = OdometryStepCovariance(odometry_step, options_.tracker);
+  result.gating_step_covariance = result.step_covariance;
   if (!options_.tracker.scan_matching) return result;
 
   std::vector<int> beams;
@@ -244,13 +247,32 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
       rate * (std::abs(NormalizeAngle(correction.theta())) - mean_correction_rad_);
   // Covariance of the new pose in its own frame, scaled (the Hessian is optimistic), as the
   // covariance of the step from the previous pose (which the local map already contains).
-  const Eigen::Matrix3d information = registration.information;
-  const Eigen::FullPivLU<Eigen::Matrix3d> lu(information);
-  if (lu.isInvertible()) {
-    const Eigen::Matrix3d ad = Adjoint(result.tracker_T_base.inverse());
-    Eigen::Matrix3d covariance = ad * lu.inverse() * ad.transpose();
-    covariance = 0.5 * (covariance + covariance.transpose());
-    result.step_covariance = options_.tracker.registration_covariance_scale * covariance;
+  const Eigen::Matrix3d ad = Adjoint(result.tracker_T_base.inverse());
+  const auto to_step_covariance = [&ad](const Eigen::Matrix3d& information)
+      -> std::optional<Eigen::Matrix3d> {
+    const Eigen::FullPivLU<Eigen::Matrix3d> lu(information);
+    if (!lu.isInvertible()) return std::nullopt;
+    const Eigen::Matrix3d covariance = ad * lu.inverse() * ad.transpose();
+    return Eigen::Matrix3d(0.5 * (covariance + covariance.transpose()));
+  };
+  const double scale = options_.tracker.registration_covariance_scale;
+  if (const auto loose = to_step_covariance(registration.information / scale)) {
+    result.step_covariance = result.gating_step_covariance = *loose;
+  }
+  // Tight: Omega = (H - H_prior) / scale + H_prior, the prior's share left unscaled. Only when
+  // the scan's share is positive semi-definite (it is a sum of J' Omega_i J terms, up to
+  // rounding).
+  const Eigen::Matrix3d& prior_information = registration.prior_information;
+  if (options_.tracker.tight_odometry_edges && !prior_information.isZero(0.0)) {
+    const Eigen::Matrix3d scan_information = registration.information - prior_information;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
+        0.5 * (scan_information + scan_information.transpose()), Eigen::EigenvaluesOnly);
+    const Eigen::Vector3d& lambda = eigen.eigenvalues();
+    if (lambda.minCoeff() >= -1e-6 * std::max(1.0, lambda.maxCoeff())) {
+      if (const auto tight = to_step_covariance(scan_information / scale + prior_information)) {
+        result.step_covariance = *tight;
+      }
+    }
   }
   MergeIntoLocalMap(input, base_points, beams, result.tracker_T_base, stats);
   return result;

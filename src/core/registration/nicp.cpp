@@ -22,6 +22,7 @@ namespace {
 struct Accumulator {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d H_prior = Eigen::Matrix3d::Zero();  // the prior's share of H
   double chi2 = 0.0;
   int outliers = 0;
 
@@ -68,7 +69,8 @@ struct Accumulator {
       j(0, 2) = -e.y();
       j(1, 2) = e.x();
     }
-    H.noalias() += j.transpose() * prior.information * j;
+    H_prior = j.transpose() * prior.information * j;
+    H.noalias() += H_prior;
     b.noalias() += j.transpose() * prior.information * e;
     chi2 += e.dot(prior.information * e);
   }
@@ -113,6 +115,7 @@ RegistrationResult Nicp::Solve(const Cloud& reference, const Cloud& current, con
   }
   result.reference_T_current = T;
   result.information = last.H;
+  result.prior_information = last.H_prior;
   result.chi2 = last.chi2;
   result.outliers = last.outliers;
   return result;

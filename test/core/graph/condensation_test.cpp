@@ -281,6 +281,13 @@ TEST(Condensation, FusedEdgeIsTheInformationWeightedMean) {
   const GraphEdge f = FuseEdges(a, b);
   EXPECT_NEAR(f.measurement.x(), 1.05, 1e-9);
   EXPECT_NEAR(f.information(0, 0), 4.0, 1e-12);
+  EXPECT_FALSE(f.gating_information.has_value());
+  // Gating informations add too; an edge without one gates with its information.
+  a.gating_information = Eigen::Matrix3d::Identity() * 0.5;
+  const GraphEdge g = FuseEdges(a, b);
+  ASSERT_TRUE(g.gating_information.has_value());
+  EXPECT_NEAR((*g.gating_information)(0, 0), 1.5, 1e-12);
+  EXPECT_NEAR(g.information(0, 0), 4.0, 1e-12);
 }
 
 }  // namespace

@@ -53,8 +53,10 @@ SessionMap SmallMap() {
   odometry.to = 4;
   odometry.measurement = Pose2(0.5, -0.25, 0.1);
   odometry.information << 100, 1, 2, 1, 90, 3, 2, 3, 400;
+  odometry.gating_information = 0.01 * odometry.information;
   map.edges.push_back(odometry);
   GraphEdge closure = odometry;
+  closure.gating_information.reset();
   closure.from = 7;
   closure.to = 3;
   closure.kind = EdgeKind::kLoopClosure;
@@ -71,6 +73,9 @@ TEST(SessionMapFile, RoundTripIsByteIdentical) {
   EXPECT_EQ(parsed->nodes.size(), 3u);
   EXPECT_EQ(parsed->edges.size(), 2u);
   EXPECT_EQ(parsed->edges[1].kind, EdgeKind::kLoopClosure);
+  ASSERT_TRUE(parsed->edges[0].gating_information.has_value());
+  EXPECT_EQ(*parsed->edges[0].gating_information, 0.01 * parsed->edges[0].information);
+  EXPECT_FALSE(parsed->edges[1].gating_information.has_value());
   EXPECT_EQ(parsed->nodes.at(7).session_id, 1);
   EXPECT_FALSE(parsed->nodes.at(7).cloud[2].inherited);
   EXPECT_TRUE(parsed->nodes.at(7).cloud[3].inherited);
@@ -221,6 +226,42 @@ TEST(SessionMapFile, PointsOfVersionFourFilesAreAllTheirNodesOwn) {
   for (const RichPoint& p : v4->nodes.at(3).cloud) EXPECT_FALSE(p.inherited);
   EXPECT_NEAR(v4->nodes.at(3).cloud[4].weight, 0.2, 1e-12);
   EXPECT_EQ(v4->nodes.at(3).waypoints.at(0).session_id, 0);
+}
+
+// SmallMap's payload without the edges' gating flags (version 5): its edges have no gating
+// information. Each edge is 102 bytes in version 6, its flag last; 48 bytes of removed nodes end
+// the payload.
+TEST(SessionMapFile, EdgesOfVersionFiveFilesHaveOneInformation) {
+  SessionMap map = SmallMap();
+  for (GraphEdge& e : map.edges) e.gating_information.reset();
+  constexpr std::size_t kHeader = 24, kEdgeBytes = 102, kRemovedBytes = 48;
+  std::string body = SerializeSessionMap(map).substr(kHeader);
+  const std::size_t edges_end = body.size() - kRemovedBytes;
+  for (std::size_t k = 0; k < map.edges.size(); ++k) {
+    const std::size_t flag = edges_end - k * kEdgeBytes - 1;
+    ASSERT_EQ(body[flag], 0);
+    body.erase(flag, 1);
+  }
+  const auto v5 = ParseSessionMap(FileWith(5, body), "v5.ltmap");
+  ASSERT_TRUE(v5.ok()) << v5.status().message();
+  ASSERT_EQ(v5->edges.size(), 2u);
+  for (const GraphEdge& e : v5->edges) EXPECT_FALSE(e.gating_information.has_value());
+  EXPECT_EQ(v5->edges[0].information, map.edges[0].information);
+  EXPECT_EQ(SerializeSessionMap(*v5), SerializeSessionMap(map));
+}
+
+TEST(SessionMapFile, AnInvalidGatingFlagIsRefused) {
+  SessionMap map = SmallMap();
+  map.edges[0].gating_information.reset();
+  constexpr std::size_t kHeader = 24, kEdgeBytes = 102, kRemovedBytes = 48;
+  std::string body = SerializeSessionMap(map).substr(kHeader);
+  const std::size_t first_flag = body.size() - kRemovedBytes - 2 * kEdgeBytes + kEdgeBytes - 1;
+  ASSERT_EQ(body[first_flag], 0);
+  body[first_flag] = 2;
+  const auto parsed = ParseSessionMap(FileWith(kSessionMapVersion, body), "gating.ltmap");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_NE(parsed.status().message().find("invalid gating flag"), std::string::npos)
+      << parsed.status().message();
 }
 
 TEST(SessionMapFile, UnknownPointFlagsAreRefused) {

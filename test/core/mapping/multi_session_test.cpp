@@ -236,6 +236,38 @@ TEST(MultiSession, EarlierTrajectoriesAreReexpressedInTheLatestMap) {
   EXPECT_FALSE(ReexpressTrajectory(other, first.anchors).ok());
 }
 
+// The map's origin is where the first session started as the map has it now: it moves with the
+// node it was made at, and with the node that took that one in when it is merged away.
+TEST(MultiSession, TheOriginFollowsTheMapThroughOptimisationAndMerges) {
+  const auto world = LoadWorld(std::string(LTM_CONFIG_DIR) + "/worlds/small_room.yaml");
+  ASSERT_TRUE(world.ok());
+  const SessionResult first = MapSession(*world, 1, nullptr);
+  ASSERT_FALSE(first.anchors.empty());
+  // Where the map has the first session's first scan (a few millimetres from its first node).
+  const auto start_in = [&first](const SessionMap& map) {
+    const auto poses = ReexpressTrajectory(map, {first.anchors.front()});
+    EXPECT_TRUE(poses.ok()) << poses.status().message();
+    return poses.ok() ? poses->front().pose : Pose2();
+  };
+  const auto distance_m = [](const Pose2& a, const Pose2& b) {
+    return (a.translation() - b.translation()).norm();
+  };
+  // Measured: the start moved 0.05 m in the session (the gauge left it as nodes merged); the
+  // origin moved with it, 0.001 m from the first scan.
+  EXPECT_LT(distance_m(first.map.origin, start_in(first.map)), 0.01);
+  EXPECT_LT(std::abs(first.map.origin.Between(start_in(first.map)).theta()), 0.01);
+  // A loaded map whose frame sits elsewhere: the origin stays with its nodes through a session
+  // that merges them.
+  SessionMap moved = first.map;
+  const Pose2 shift(0.4, -0.2, 0.1);
+  for (auto& [id, node] : moved.nodes) node.map_T_node = shift * node.map_T_node;
+  moved.origin = shift * moved.origin;
+  const SessionResult second = MapSession(*world, 2, &moved);
+  ASSERT_GT(second.merges, 0u);
+  EXPECT_LT(distance_m(second.map.origin, start_in(second.map)), 0.01);
+  EXPECT_LT(std::abs(second.map.origin.Between(start_in(second.map)).theta()), 0.01);
+}
+
 // maintenance.merge_delay_nodes: closures accepted during the session merge nothing while their
 // nodes are younger than the delay; the end of the session merges what waited.
 TEST(MultiSession, DelayedMergesWaitForYoungerNodesAndHappenAtTheEnd) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <random>
 
 #include "testing/synthetic_scans.h"
@@ -224,6 +225,57 @@ TEST(Tracker, AScanTurnedFartherThanOdometrySaysIsFoundFromTurnedGuesses) {
   EXPECT_LT(std::abs(NormalizeAngle(result.tracker_T_base.theta() - truth.theta())), 0.005);
   EXPECT_EQ(with.counters["registrations_rescued_turned"], 1u);
   EXPECT_EQ(with.counters["tracker_failures"], 0u);
+}
+
+// The robot drives 2 m along a featureless corridor (ends out of range), one scan every 0.1 m.
+// Returns the step covariances of the last scan.
+TrackResult TrackAlongAFeaturelessCorridor(bool tight_odometry_edges) {
+  MapperOptions options;
+  options.tracker.tight_odometry_edges = tight_odometry_edges;
+  Tracker tracker(options);
+  MapperStats stats;
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;
+  laser.range_noise_m = 0.005;
+  Pose2 truth(0.0, 0.2, 0.0);
+  TrackResult result;
+  for (int i = 0; i <= 20; ++i) {
+    if (i > 0) truth = truth * Pose2(0.1, 0.0, 0.0);
+    ScanInput input;
+    input.scan = CastScan(test_support::Corridor(), {}, truth, laser, 500 + i);
+    input.scan.stamp_s = 0.2 * i;
+    input.odom_T_base = truth;
+    if (i == 0) {
+      tracker.Reset(input, truth, stats);
+      continue;
+    }
+    const Pose2 previous = truth * Pose2(-0.1, 0.0, 0.0);
+    result = tracker.Track(input, previous, Pose2(0.1, 0.0, 0.0), stats);
+    EXPECT_TRUE(result.registered) << "scan " << i;
+  }
+  return result;
+}
+
+TEST(Tracker, TightOdometryEdgesKeepTheOdometryPriorUnscaled) {
+  const TrackerOptions defaults;
+  const double scale = defaults.registration_covariance_scale;
+  const Eigen::Matrix3d odometry = OdometryStepCovariance(Pose2(0.1, 0.0, 0.0), defaults);
+  const TrackResult tight = TrackAlongAFeaturelessCorridor(true);
+  // Along the corridor only odometry knows: the optimiser's edge has odometry's variance, the
+  // gate's has it scaled. Across it the walls say about as much as the prior once scaled: the
+  // tight variance is a little smaller than the loose one. Tight is tighter in every direction.
+  EXPECT_NEAR(tight.step_covariance(0, 0) / odometry(0, 0), 1.0, 0.1);
+  EXPECT_NEAR(tight.gating_step_covariance(0, 0) / odometry(0, 0), scale, 0.1 * scale);
+  const double across = tight.step_covariance(1, 1) / tight.gating_step_covariance(1, 1);
+  EXPECT_GT(across, 0.3);
+  EXPECT_LT(across, 1.0);
+  EXPECT_LT(tight.gating_step_covariance(1, 1), 0.1 * tight.gating_step_covariance(0, 0));
+  const Eigen::Matrix3d looser = tight.gating_step_covariance - tight.step_covariance;
+  EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(looser).eigenvalues().minCoeff(), 0.0);
+
+  const TrackResult loose = TrackAlongAFeaturelessCorridor(false);
+  EXPECT_TRUE(loose.step_covariance.isApprox(loose.gating_step_covariance));
+  EXPECT_NEAR(loose.step_covariance(0, 0) / tight.gating_step_covariance(0, 0), 1.0, 0.01);
 }
 
 TEST(Tracker, FailureHeadingOptionsAreValidated) {

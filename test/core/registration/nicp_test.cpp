@@ -98,6 +98,38 @@ TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {
   EXPECT_LT(result.information(0, 0), 0.01 * result.information(1, 1));
 }
 
+TEST(Nicp, ReportsThePriorsShareOfTheInformation) {
+  // Along a featureless corridor all the information about x is the prior's; across it the
+  // walls say much more than the prior.
+  const Pose2 truth(1.0, 0.1, 0.02);
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;
+  const Scene s = MakeSetup(test_support::Corridor(), truth, 0.0, laser);
+  const Pose2 odometry(0.7, 0.0, 0.0);
+  const PosePrior prior{odometry, Eigen::Vector3d(100.0, 100.0, 400.0).asDiagonal()};
+  Nicp nicp(RegistrationOptions{});
+  const auto geometry = ProjectorGeometry::FromScan(s.current_scan, 30.0);
+  const auto with =
+      nicp.AlignProjective(s.reference, s.current, odometry, Pose2(), geometry, prior);
+  ASSERT_TRUE(with.solved);
+  // The prior's Hessian at the result (the last iteration's point, converged): J' Omega J with
+  // J = [[1, 0, -e_y], [0, 1, e_x], [0, 0, 1]].
+  const Eigen::Vector3d e = (with.reference_T_current * odometry.inverse()).vector();
+  Eigen::Matrix3d j = Eigen::Matrix3d::Identity();
+  j(0, 2) = -e.y();
+  j(1, 2) = e.x();
+  const Eigen::Matrix3d expected = j.transpose() * prior.information * j;
+  EXPECT_LT((with.prior_information - expected).norm(), 1e-6 * expected.norm());
+  const Eigen::Matrix3d scan = with.information - with.prior_information;
+  EXPECT_LT(scan(0, 0), 0.01 * with.prior_information(0, 0));
+  EXPECT_GT(scan(1, 1), 10.0 * with.prior_information(1, 1));
+
+  const auto without =
+      nicp.AlignProjective(s.reference, s.current, odometry, Pose2(), geometry, std::nullopt);
+  ASSERT_TRUE(without.solved);
+  EXPECT_TRUE(without.prior_information.isZero(0.0));
+}
+
 TEST(Nicp, ARobotFramePriorDoesNotDependOnWhereTheReferenceOriginIs) {
   // The corridor above, odometry off in x and in heading, solved once as it is and once with
   // everything moved 500 m away and turned (a tracker frame far from the odometry origin). In the

@@ -30,6 +30,9 @@ struct GraphEdge {
   GraphNodeId to = 0;
   Pose2 measurement;
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  // A looser information for the loop closer's candidate gate (marginals), if the edge has one;
+  // the optimiser uses `information` (TrackerOptions::tight_odometry_edges).
+  std::optional<Eigen::Matrix3d> gating_information;
   EdgeKind kind = EdgeKind::kOdometry;
   int session_id = 0;
   double stamp_s = 0.0;
@@ -63,5 +66,9 @@ class PoseGraph {
   std::vector<GraphEdge> edges_;
   std::optional<GraphNodeId> gauge_;
 };
+
+// A copy of the graph whose edges carry their gating information as their information (the loop
+// closer's marginals), or nothing when no edge has one (the graph itself will do).
+std::optional<PoseGraph> WithGatingInformation(const PoseGraph& graph);
 
 }  // namespace longterm_mapper2d

@@ -24,14 +24,14 @@ struct SessionMap {
   std::map<NodeId, LocalMapNode> nodes;
   std::vector<GraphEdge> edges;
   NodeId gauge = 0;
-  // Where the first session started (the docking station): the default start of later sessions.
-  // Nodes there may be merged away; this pose stays.
+  // Where the first session started (the docking station), where the map has it when saved: the
+  // default start of later sessions. Nodes there may be merged away; the pose follows them.
   Pose2 origin;
   // Every node removed so far, by id (40 bytes each in the file: an intel session removes ~190).
   std::map<NodeId, RemovedNode> removed_nodes;
 };
 
-// The session map file (.ltmap), version 5, little-endian:
+// The session map file (.ltmap), version 6, little-endian:
 //   header: "LTMAP2D\n" (8 bytes), uint32 version, uint64 payload size, uint32 CRC-32 of the payload
 //   payload: int32 sessions, int64 gauge, origin pose (version 2; version 1 files have none and
 //   take the first node's pose), nodes, edges (counts as uint64, values as written by
@@ -40,10 +40,11 @@ struct SessionMap {
 //   Since version 4 the removed nodes follow the edges: a count, then per node int64 id, int64
 //   survivor and the pose survivor_T_removed (older files: none). Since version 5 each cloud
 //   point's five doubles are followed by a uint8 of flags, bit 0 RichPoint::inherited (older
-//   files: 0, every point the node's own).
+//   files: 0, every point the node's own). Since version 6 each edge's information is followed
+//   by a uint8 (1: it has a gating information, whose upper triangle follows; older files: 0).
 // Parsing never trusts a count: one that cannot fit in the remaining bytes is refused before any
 // allocation. Serialising a parsed map gives the same bytes.
-constexpr std::uint32_t kSessionMapVersion = 5;
+constexpr std::uint32_t kSessionMapVersion = 6;
 std::string SerializeSessionMap(const SessionMap& map);
 StatusOr<SessionMap> ParseSessionMap(const std::string& bytes, const std::string& source_name);
 

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "longterm_mapper2d/core/cloud/rich_point.h"
@@ -41,6 +42,8 @@ struct OdometryEdge {
   NodeId to = 0;
   Pose2 from_T_to;
   Eigen::Matrix3d information = Eigen::Matrix3d::Identity();
+  // For the loop closer's candidate gate, when it differs (TrackerOptions::tight_odometry_edges).
+  std::optional<Eigen::Matrix3d> gating_information;
   bool after_tracker_failure = false;
 };
 

@@ -140,8 +140,16 @@ class Mapper {
   std::optional<Pose2> initial_map_T_base_;
   Pose2 map_T_tracker_start_;
   std::optional<NodeId> session_anchor_;
-  // Where the first session of the map started (SessionMap::origin).
-  std::optional<Pose2> origin_;
+  // Where the first session of the map started (SessionMap::origin), held by a node: the first
+  // node, or on a loaded map the node nearest to the loaded origin; once that node is merged
+  // away, its survivor (removed_nodes_). The origin so follows the optimised map: a fixed
+  // map-frame pose does not, once the gauge has left the start (intel: 0.2-0.65 m off along the
+  // start corridor after one session, and later sessions started there).
+  std::optional<NodeId> origin_node_;
+  Pose2 node_T_origin_;
+  Pose2 OriginInMap() const;
+  // The node whose origin is nearest to the pose's position (nodes_ must not be empty).
+  NodeId NearestNode(const Pose2& map_T_pose) const;
 
   // Tracking state.
   bool has_last_processed_ = false;
@@ -150,6 +158,7 @@ class Mapper {
   Pose2 last_tracker_T_base_;  // at the last processed scan
   std::optional<Pose2> last_waypoint_tracker_T_base_;
   Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
+  Eigen::Matrix3d stretch_gating_covariance_ = Eigen::Matrix3d::Zero();  // ... for the gate
   bool stretch_after_failure_ = false;
   // The first node after a tracker failure, until a closure ties a node from it on to an older
   // node: the heading of those nodes may be far off, so their closures are searched wider.

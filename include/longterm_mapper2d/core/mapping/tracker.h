@@ -17,8 +17,11 @@ struct TrackResult {
   Pose2 tracker_T_base;
   bool registered = false;  // scan matching ran and was accepted
   bool failed = false;      // scan matching ran and was rejected: the local map was reset
-  // Covariance of the step prev_T_base, in the previous base frame (additive x, y, theta).
+  // Covariance of the step prev_T_base, in the previous base frame (additive x, y, theta): for
+  // the optimiser's odometry edges, and for the loop closer's candidate gate (the same unless
+  // TrackerOptions::tight_odometry_edges).
   Eigen::Matrix3d step_covariance = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d gating_step_covariance = Eigen::Matrix3d::Identity();
 };
 
 // Odometry noise of one step, as a covariance in the robot frame (TrackerOptions' model).

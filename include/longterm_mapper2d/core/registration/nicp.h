@@ -39,6 +39,9 @@ struct RegistrationResult {
   // Information (inverse covariance) of the estimate: the Gauss-Newton Hessian of the last
   // iteration, prior included, without damping.
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  // The prior's share of `information` (zero without a prior): information - prior_information
+  // is what the scan alone says.
+  Eigen::Matrix3d prior_information = Eigen::Matrix3d::Zero();
   int iterations = 0;
   int correspondences = 0;
   int outliers = 0;  // pairs capped by the robust kernel in the last iteration
