@@ -11,7 +11,7 @@ namespace {
 
 using test_support::MapAndEvaluate;
 using test_support::RelationErrors;
-using test_support::TempDir;
+using test_support::ScopedTempDir;
 
 // The bag's base_link -> laser transform puts the laser 0.04 m ahead of the base; the original
 // log's parameter (robot_frontlaser_offset -0.04, in the GMapping-corrected copy of that log)
@@ -26,8 +26,9 @@ TEST(RealDataBenchmark, Fr079WithTheOriginalLaserMountBeatsThePublishedResult) {
 #ifndef LTM_READS_BAGS
   GTEST_SKIP() << "needs fr079.bag (a build with the ROS layer): the CARMEN copy fails it";
 #endif
+  const ScopedTempDir temp("ltm_real_data");
   const RelationErrors r =
-      MapAndEvaluate(data, "fr079", " --laser-mount -0.04,0,0", TempDir() + "/fr079.txt");
+      MapAndEvaluate(data, "fr079", " --laser-mount -0.04,0,0", temp.path() + "/fr079.txt");
   std::printf("fr079, laser mount -0.04 m: %.4f m (max %.3f m), %.3f deg\n", r.mean_m, r.max_m,
               r.rotation_deg);
   EXPECT_LT(r.mean_m, 0.0452);
@@ -40,7 +41,8 @@ TEST(RealDataBenchmark, Fr079WithTheOriginalLaserMountBeatsThePublishedResult) {
 // within 0.04 m (0.043 without, 0.037 with; the published result is 0.0375).
 TEST(RealDataBenchmark, AcesReturnToItsStartIsClosed) {
   LTM_REQUIRE_REAL_DATA(data);
-  const RelationErrors r = MapAndEvaluate(data, "aces", "", TempDir() + "/aces.txt");
+  const ScopedTempDir temp("ltm_real_data");
+  const RelationErrors r = MapAndEvaluate(data, "aces", "", temp.path() + "/aces.txt");
   std::printf("aces: %.4f m (max %.3f m), %.3f deg\n", r.mean_m, r.max_m, r.rotation_deg);
   EXPECT_LT(r.mean_m, 0.040);
   EXPECT_LT(r.max_m, 0.5);

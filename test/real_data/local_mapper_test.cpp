@@ -11,7 +11,7 @@ namespace {
 
 using test_support::RelationErrors;
 using test_support::RunCommand;
-using test_support::TempDir;
+using test_support::ScopedTempDir;
 using test_support::Tool;
 
 // A log mapped with one of the shipped configurations ("" for the default).
@@ -26,7 +26,8 @@ class RealDataLocalMapper : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RealDataLocalMapper, ScanMatchingCutsTheOdometryError) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   const RelationErrors odometry = MapAndEvaluate(data, GetParam(), "odometry_only", dir);
   const RelationErrors tracked = MapAndEvaluate(data, GetParam(), "no_loop_closing", dir);
   std::printf("%s: odometry %.3f m %.2f deg, local mapper %.3f m %.2f deg\n", GetParam(),
@@ -63,7 +64,8 @@ class RealDataSlam : public ::testing::TestWithParam<SlamCase> {};
 
 TEST_P(RealDataSlam, LoopClosingRemovesTheDrift) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   const SlamCase c = GetParam();
   const RelationErrors local = MapAndEvaluate(data, c.name, "no_loop_closing", dir);
   const RelationErrors slam = MapAndEvaluate(data, c.name, "no_maintenance", dir);
@@ -84,7 +86,8 @@ TEST_P(RealDataSlam, LoopClosingRemovesTheDrift) {
 // the size it has with maintenance off.
 TEST_P(RealDataSlam, MaintenanceShrinksTheGraph) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   int nodes[2];
   for (int maintained = 0; maintained < 2; ++maintained) {
     const std::string stats = dir + "/stats" + std::to_string(maintained) + ".json";

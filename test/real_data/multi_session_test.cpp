@@ -16,7 +16,7 @@ namespace {
 
 using test_support::JsonNumber;
 using test_support::RunCommand;
-using test_support::TempDir;
+using test_support::ScopedTempDir;
 using test_support::Tool;
 
 struct Session {
@@ -70,7 +70,8 @@ Session MapSession(const std::string& data, const std::string& args, const std::
 // on average within 1.2x of sessions 2-6, and every session within the ten-session bounds.
 TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   std::vector<Session> sessions;
   for (int s = 1; s <= 20; ++s) {
     const std::string previous =
@@ -110,7 +111,8 @@ TEST(RealDataMultiSession, TwentySessionsOfIntelStayTheSizeOfTheBuilding) {
 // (frozen), the earlier parts miss the corrections of the later ones: a looser bound guards them.
 TEST(RealDataMultiSession, ThreePartsOfIntelContinueOneMap) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   const char* parts[3] = {"--end 900", "--start 900 --end 1800", "--start 1800"};
   int nodes[2] = {0, 0};
   double errors[2] = {0.0, 0.0};

@@ -11,7 +11,7 @@ namespace {
 
 using test_support::JsonNumber;
 using test_support::RunCommand;
-using test_support::TempDir;
+using test_support::ScopedTempDir;
 using test_support::Tool;
 
 #ifdef LTM_READS_BAGS
@@ -19,7 +19,8 @@ using test_support::Tool;
 // tier on the CARMEN copies, which this test vouches for.
 TEST(RealDataIntel, BagAndCarmenLogGiveTheSameOdometryTrajectory) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   // Odometry only: registration and loop closing are switched off through the config.
   const std::string config = std::string(" --config ") + LTM_CONFIG_DIR + "/odometry_only.yaml";
   const auto bag = RunCommand(Tool("offline_mapper") + " --bag " + data + "/intel/intel.bag" +
@@ -49,7 +50,8 @@ TEST(RealDataIntel, BagAndCarmenLogGiveTheSameOdometryTrajectory) {
 
 TEST(RealDataIntel, EvaluateRelationsMatchesEveryIntelRelation) {
   LTM_REQUIRE_REAL_DATA(data);
-  const std::string dir = TempDir();
+  const ScopedTempDir temp("ltm_real_data");
+  const std::string& dir = temp.path();
   const auto run = RunCommand(Tool("offline_mapper") + test_support::LogInput(data, "intel") +
                               " --config " + LTM_CONFIG_DIR +
                               "/odometry_only.yaml --trajectory " + dir + "/odom.txt");

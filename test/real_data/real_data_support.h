@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "testing/temp_dir.h"
+
 namespace longterm_mapper2d {
 namespace test_support {
 
@@ -68,12 +70,6 @@ inline std::string LogInput(const std::string& data, const std::string& name) {
 }
 
 inline std::string Tool(const std::string& name) { return std::string(LTM_BIN_DIR) + "/" + name; }
-
-inline std::string TempDir() {
-  char pattern[] = "/tmp/ltm_real_data_XXXXXX";
-  const char* dir = ::mkdtemp(pattern);
-  return dir ? dir : "/tmp";
-}
 
 // The value of "key": NUMBER in a JSON text, or NaN.
 inline double JsonNumber(const std::string& json, const std::string& key) {

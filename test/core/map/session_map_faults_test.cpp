@@ -13,6 +13,7 @@
 
 #include "longterm_mapper2d/core/io/atomic_file.h"
 #include "longterm_mapper2d/core/map/session_map_file.h"
+#include "testing/temp_dir.h"
 
 namespace longterm_mapper2d {
 namespace {
@@ -36,11 +37,6 @@ SessionMap MapOfSize(int nodes, int points, double tag) {
   return map;
 }
 
-std::string TempDir() {
-  char pattern[] = "/tmp/ltmap_faults_XXXXXX";
-  return ::mkdtemp(pattern);
-}
-
 int FilesIn(const std::string& dir) {
   int count = 0;
   if (DIR* d = ::opendir(dir.c_str())) {
@@ -51,7 +47,8 @@ int FilesIn(const std::string& dir) {
 }
 
 TEST(SessionMapFaults, AFullFileSystemKeepsThePreviousFile) {
-  const std::string dir = TempDir();
+  const test_support::ScopedTempDir temp("ltmap_faults");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/map.ltmap";
   ASSERT_TRUE(SaveSessionMap(MapOfSize(2, 100, 0.0), path).ok());
   const auto before = ReadFileBytes(path);
@@ -75,7 +72,8 @@ TEST(SessionMapFaults, AFullFileSystemKeepsThePreviousFile) {
 }
 
 TEST(SessionMapFaults, KillingTheProcessDuringASaveKeepsAWholeFile) {
-  const std::string dir = TempDir();
+  const test_support::ScopedTempDir temp("ltmap_faults");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/map.ltmap";
   const SessionMap a = MapOfSize(40, 3000, 1.0), b = MapOfSize(40, 3000, 2.0);
   const std::string bytes_a = SerializeSessionMap(a), bytes_b = SerializeSessionMap(b);

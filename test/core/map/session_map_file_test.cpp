@@ -8,6 +8,7 @@
 
 #include "longterm_mapper2d/core/io/atomic_file.h"
 #include "longterm_mapper2d/core/io/binary_io.h"
+#include "testing/temp_dir.h"
 
 namespace longterm_mapper2d {
 namespace {
@@ -278,8 +279,8 @@ TEST(SessionMapFile, UnknownPointFlagsAreRefused) {
 }
 
 TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {
-  char dir_template[] = "/tmp/ltmap_test_XXXXXX";
-  const std::string dir = ::mkdtemp(dir_template);
+  const test_support::ScopedTempDir temp("ltmap_test");
+  const std::string& dir = temp.path();
   const std::string path = dir + "/map.ltmap";
   ASSERT_TRUE(SaveSessionMap(SmallMap(), path).ok());
   const auto before = ReadFileBytes(path);
@@ -290,7 +291,6 @@ TEST(SessionMapFile, AFailedSaveKeepsThePreviousFile) {
   ASSERT_TRUE(loaded.ok()) << loaded.status().message();
   EXPECT_EQ(SerializeSessionMap(*loaded), *before);
   EXPECT_FALSE(LoadSessionMap(dir + "/none.ltmap").ok());
-  std::remove(path.c_str());
 }
 
 // Found by test/fuzz/ltmap_fuzzer: files with a pose angle outside (-pi, pi] or with nodes out of

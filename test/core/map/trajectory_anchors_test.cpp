@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include "testing/temp_dir.h"
+
 namespace longterm_mapper2d {
 namespace {
 
@@ -93,8 +95,8 @@ TEST(TrajectoryAnchors, SmoothingTakesTheJumpOutOfAStretchTwoNodesCarry) {
 }
 
 TEST(TrajectoryAnchors, FilesRoundTripAndBadLinesAreRefused) {
-  char dir_template[] = "/tmp/anchors_test_XXXXXX";
-  const std::string dir = ::mkdtemp(dir_template);
+  const test_support::ScopedTempDir temp("anchors_test");
+  const std::string& dir = temp.path();
   const std::vector<AnchoredPose> anchors = {
       {976052857.337, 12, Pose2(0.25, -1.5, 3.0), Pose2(7.0, 8.0, -1.0)},
       {976052857.5, kMapFrame, Pose2(1.0, 2.0, -0.5), std::nullopt}};
@@ -118,8 +120,6 @@ TEST(TrajectoryAnchors, FilesRoundTripAndBadLinesAreRefused) {
     EXPECT_NE(refused.status().message().find("bad.txt:2"), std::string::npos) << bad;
   }
   EXPECT_FALSE(ReadTrajectoryAnchors(dir + "/missing.txt").ok());
-  std::remove((dir + "/a.txt").c_str());
-  std::remove((dir + "/bad.txt").c_str());
 }
 
 }  // namespace
