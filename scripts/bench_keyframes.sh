@@ -28,7 +28,8 @@ fi
 [ $BUILD -eq 0 ] || bench_build
 mkdir -p "$OUT"
 /usr/bin/python3 "$ROOT/scripts/keyframe_logs.py" "$DATA" "$OUT" "${NAMES[@]}" > /dev/null
-[ ${#NAMES[@]} -gt 0 ] || mapfile -t NAMES < <(cd "$OUT" && ls *.log | sed 's/\.log$//')
+# The logs keyframe_logs.py wrote, by their relations (each run's own .log files are not logs).
+[ ${#NAMES[@]} -gt 0 ] || mapfile -t NAMES < <(cd "$OUT" && ls *.relations | sed 's/\.relations$//')
 
 for n in "${NAMES[@]}"; do
   for run in mapper odometry; do
