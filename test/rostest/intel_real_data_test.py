@@ -8,6 +8,7 @@ the same bag, with the same options, and the node must drop no scan.
 import json
 import math
 import os
+import shutil
 import subprocess
 import tempfile
 import time
@@ -44,6 +45,10 @@ class IntelNodeTest(unittest.TestCase):
         cls.path_received_wall = 0.0
         rospy.Subscriber("/mapper_node/status", MapperStatus, cls._on_status)
         rospy.Subscriber("/mapper_node/trajectory", Path, cls._on_path)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
 
     @classmethod
     def _on_status(cls, msg):

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Integration test of mapper_node: a simulated bag played with --clock, then TF, topics, services."""
 import os
+import shutil
 import subprocess
 import tempfile
 import time
@@ -48,6 +49,7 @@ class MapperNodeTest(unittest.TestCase):
     def tearDownClass(cls):
         cls.player.terminate()
         cls.player.wait()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
 
     @classmethod
     def _on_status(cls, msg):

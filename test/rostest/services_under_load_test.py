@@ -3,6 +3,7 @@
 bag plays, then ~load_map while scans keep arriving. Every call must answer, every saved file must
 be whole (magic, size and CRC-32), and mapping must go on."""
 import os
+import shutil
 import struct
 import subprocess
 import tempfile
@@ -41,6 +42,7 @@ class ServicesUnderLoadTest(unittest.TestCase):
     def test_services_while_mapping(self):
         rospy.init_node("services_under_load_test")
         tmp = tempfile.mkdtemp(prefix="ltm_rostest_load_")
+        self.addCleanup(shutil.rmtree, tmp, True)
         subprocess.check_call([os.path.join(BIN_DIR, "simulate_world"), "--world", WORLD, "--out",
                                tmp, "--duration", "120"], stdout=subprocess.DEVNULL)
         statuses = []

@@ -78,7 +78,8 @@ struct Problem {
 
 // Builds the Ceres problem over the chosen edges; the gauge block is constant.
 Problem Build(const PoseGraph& graph, const std::vector<std::size_t>& edge_indices,
-              GraphNodeId gauge, double loss_scale) {
+              GraphNodeId gauge, double loss_scale,
+              EdgeInformation information = EdgeInformation::kOptimiser) {
   Problem p;
   ceres::Problem::Options options;
   options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -86,7 +87,9 @@ Problem Build(const PoseGraph& graph, const std::vector<std::size_t>& edge_indic
   p.problem = std::make_unique<ceres::Problem>(options);
   for (std::size_t index : edge_indices) {
     const GraphEdge& edge = graph.edges()[index];
-    const auto sqrt_information = SqrtInformation(edge.information);
+    const bool gating = information == EdgeInformation::kGating && edge.gating_information;
+    const auto sqrt_information =
+        SqrtInformation(gating ? *edge.gating_information : edge.information);
     if (!sqrt_information) {
       ++p.skipped_edges;
       continue;
@@ -195,10 +198,10 @@ OptimizationSummary Optimize(PoseGraph& graph, const OptimizerOptions& options,
 
 StatusOr<std::map<GraphNodeId, Eigen::Matrix3d>> ComputeMarginals(
     const PoseGraph& graph, GraphNodeId gauge, const std::vector<GraphNodeId>& nodes,
-    const std::optional<std::vector<std::size_t>>& edges) {
+    const std::optional<std::vector<std::size_t>>& edges, EdgeInformation information) {
   if (!graph.HasNode(gauge)) return Status::Error("gauge node " + std::to_string(gauge) + " is missing");
   // No robust loss: the covariance is that of the Gaussian model at the estimate.
-  Problem p = Build(graph, edges ? *edges : AllEdges(graph), gauge, 0.0);
+  Problem p = Build(graph, edges ? *edges : AllEdges(graph), gauge, 0.0, information);
   std::vector<std::pair<const double*, const double*>> blocks;
   for (GraphNodeId id : nodes) {
     if (id == gauge) continue;

@@ -70,14 +70,4 @@ Status PoseGraph::SetGauge(GraphNodeId id) {
   return Status::Ok();
 }
 
-std::optional<PoseGraph> WithGatingInformation(const PoseGraph& graph) {
-  const auto has_gating = [](const GraphEdge& e) { return e.gating_information.has_value(); };
-  if (std::none_of(graph.edges().begin(), graph.edges().end(), has_gating)) return std::nullopt;
-  PoseGraph gating = graph;
-  for (GraphEdge& e : gating.mutable_edges()) {
-    if (e.gating_information) e.information = *e.gating_information;
-  }
-  return gating;
-}
-
 }  // namespace longterm_mapper2d

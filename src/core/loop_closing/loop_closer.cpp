@@ -58,8 +58,8 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
   // Mahalanobis gate on the marginal of each candidate relative to the new node, from the edges'
   // gating information where they have one (looser than the optimiser's).
   ScopedStageTimer timer(stats.stage_times, "loop_closing_marginals");
-  const std::optional<PoseGraph> gating_graph = WithGatingInformation(graph);
-  const auto marginals = ComputeMarginals(gating_graph ? *gating_graph : graph, node, nearby);
+  const auto marginals =
+      ComputeMarginals(graph, node, nearby, std::nullopt, EdgeInformation::kGating);
   if (!marginals.ok()) {
     ++stats.counters["loop_closing_marginals_failed"];
     return {};

@@ -1,7 +1,6 @@
 #include "longterm_mapper2d/core/mapping/tracker.h"
 
 #include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -259,19 +258,13 @@ TrackResult Tracker::Track(const ScanInput& input, const Pose2& previous_tracker
   if (const auto loose = to_step_covariance(registration.information / scale)) {
     result.step_covariance = result.gating_step_covariance = *loose;
   }
-  // Tight: Omega = (H - H_prior) / scale + H_prior, the prior's share left unscaled. Only when
-  // the scan's share is positive semi-definite (it is a sum of J' Omega_i J terms, up to
-  // rounding).
+  // Tight: Omega = (H - H_prior) / scale + H_prior, the prior's share left unscaled. H - H_prior
+  // is the scan's sum of J' Omega_i J terms (positive semi-definite), H_prior positive definite.
   const Eigen::Matrix3d& prior_information = registration.prior_information;
   if (options_.tracker.tight_odometry_edges && !prior_information.isZero(0.0)) {
     const Eigen::Matrix3d scan_information = registration.information - prior_information;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(
-        0.5 * (scan_information + scan_information.transpose()), Eigen::EigenvaluesOnly);
-    const Eigen::Vector3d& lambda = eigen.eigenvalues();
-    if (lambda.minCoeff() >= -1e-6 * std::max(1.0, lambda.maxCoeff())) {
-      if (const auto tight = to_step_covariance(scan_information / scale + prior_information)) {
-        result.step_covariance = *tight;
-      }
+    if (const auto tight = to_step_covariance(scan_information / scale + prior_information)) {
+      result.step_covariance = *tight;
     }
   }
   MergeIntoLocalMap(input, base_points, beams, result.tracker_T_base, stats);

@@ -152,6 +152,32 @@ TEST(Optimizer, MarginalsMatchTheDenseHessianInverse) {
   EXPECT_GT(marginals->at(2).trace(), marginals->at(1).trace());
 }
 
+TEST(Optimizer, GatingMarginalsUseTheEdgesGatingInformation) {
+  // A chain 0-1-2 whose first edge also carries a looser gating information: the gating
+  // marginals equal those of the same chain built with that information, the optimiser's do not.
+  PoseGraph g;
+  for (int i = 0; i < 3; ++i) {
+    GraphNode n;
+    n.id = i;
+    n.pose = Pose2(1.0 * i, 0.0, 0.1 * i);
+    g.AddNode(n);
+  }
+  for (int i = 0; i < 2; ++i) {
+    g.AddEdge(Edge(i, i + 1, g.node(i).pose.Between(g.node(i + 1).pose), EdgeKind::kOdometry));
+  }
+  PoseGraph loose = g;
+  g.mutable_edges()[0].gating_information = Eigen::Vector3d(1.0, 2.0, 4.0).asDiagonal();
+  loose.mutable_edges()[0].information = *g.edges()[0].gating_information;
+  const auto gating = ComputeMarginals(g, 0, {1, 2}, std::nullopt, EdgeInformation::kGating);
+  const auto optimiser = ComputeMarginals(g, 0, {1, 2});
+  const auto expected = ComputeMarginals(loose, 0, {1, 2});
+  ASSERT_TRUE(gating.ok() && optimiser.ok() && expected.ok());
+  for (int i = 1; i <= 2; ++i) {
+    EXPECT_TRUE(gating->at(i).isApprox(expected->at(i), 1e-9)) << i;
+    EXPECT_GT(gating->at(i).trace(), 10.0 * optimiser->at(i).trace()) << i;
+  }
+}
+
 TEST(Optimizer, AnUnconstrainedNodeIsReportedNotCrashedOn) {
   PoseGraph g;
   for (int i = 0; i < 3; ++i) {

@@ -2,14 +2,17 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <fstream>
+
+#include "testing/temp_dir.h"
 
 namespace longterm_mapper2d {
 namespace {
 
 TEST(TrajectoryIo, RoundTripsAndNamesMalformedLines) {
-  const std::string path = "/tmp/ltm_trajectory_test_" + std::to_string(::getpid()) + ".txt";
+  const test_support::ScopedTempDir dir("ltm_trajectory_io");
+  ASSERT_FALSE(dir.path().empty());
+  const std::string path = dir.path() + "/trajectory.txt";
   const std::vector<StampedPose2> trajectory = {{1.5, Pose2(1, 2, 0.3)}, {2.5, Pose2(-1, 0, -3.0)}};
   ASSERT_TRUE(WriteTrajectory(path, trajectory).ok());
   const auto read = ReadTrajectory(path);
@@ -30,7 +33,6 @@ TEST(TrajectoryIo, RoundTripsAndNamesMalformedLines) {
   const auto not_finite = ReadTrajectory(path);
   ASSERT_FALSE(not_finite.ok());
   EXPECT_NE(not_finite.status().message().find(path + ":2:"), std::string::npos);
-  std::remove(path.c_str());
   EXPECT_FALSE(WriteTrajectory("/nonexistent/dir/t.txt", trajectory).ok());
 }
 

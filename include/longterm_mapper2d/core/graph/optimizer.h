@@ -64,11 +64,18 @@ OptimizationSummary Optimize(PoseGraph& graph, const OptimizerOptions& options,
                              const std::optional<std::vector<std::size_t>>& edges = std::nullopt,
                              std::optional<GraphNodeId> gauge = std::nullopt);
 
+// Which information of each edge a system is built from.
+enum class EdgeInformation {
+  kOptimiser,  // GraphEdge::information
+  kGating,     // GraphEdge::gating_information where an edge has one (the loop closer's gate)
+};
+
 // Marginal covariances of `nodes` with `gauge` held fixed, at the current estimate, in the
 // additive (x, y, theta) increments of the global frame. Uses the given edges (all by default).
 // A rank-deficient system (a node not constrained relative to the gauge) is an error.
 StatusOr<std::map<GraphNodeId, Eigen::Matrix3d>> ComputeMarginals(
     const PoseGraph& graph, GraphNodeId gauge, const std::vector<GraphNodeId>& nodes,
-    const std::optional<std::vector<std::size_t>>& edges = std::nullopt);
+    const std::optional<std::vector<std::size_t>>& edges = std::nullopt,
+    EdgeInformation information = EdgeInformation::kOptimiser);
 
 }  // namespace longterm_mapper2d

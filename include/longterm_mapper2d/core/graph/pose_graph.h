@@ -67,8 +67,4 @@ class PoseGraph {
   std::optional<GraphNodeId> gauge_;
 };
 
-// A copy of the graph whose edges carry their gating information as their information (the loop
-// closer's marginals), or nothing when no edge has one (the graph itself will do).
-std::optional<PoseGraph> WithGatingInformation(const PoseGraph& graph);
-
 }  // namespace longterm_mapper2d
