@@ -41,12 +41,15 @@ std::vector<GraphNodeId> LoopCloser::Candidates(
     const PoseGraph& graph, GraphNodeId node, bool sweep, MapperStats& stats,
     std::map<GraphNodeId, Marginal>* gated_marginals) const {
   const Pose2& pose = graph.node(node).pose;
-  // Along odometry edges only: nodes that a closure or a merge joined are still candidates, so a
-  // revisited place keeps finding its old local maps and merging them. The sweep looks only for
-  // what is still missing: older nodes not already tied closely along any edges.
+  // Along the node's own session's odometry edges only: nodes that a closure or a merge joined
+  // are still candidates, so a revisited place keeps finding its old local maps and merging them;
+  // so are the loaded nodes near a session's start, which the edge of the initial pose would put
+  // next to the session's first node (and next to every earlier session's first node, all tied
+  // to nodes there: none of them ever merged). The sweep looks only for what is still missing:
+  // older nodes not already tied closely along any edges.
   const auto near_in_graph =
       sweep ? GraphPathLengths(graph, node, options_.final_sweep_min_graph_path_m)
-            : OdometryPathLengths(graph, node, options_.min_graph_distance_m);
+            : OdometryPathLengths(graph, node, options_.min_graph_distance_m, true);
   std::vector<GraphNodeId> nearby;
   for (const auto& [id, other] : graph.nodes()) {
     if (id == node || near_in_graph.count(id) || (sweep && id > node)) continue;

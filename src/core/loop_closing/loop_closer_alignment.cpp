@@ -33,13 +33,13 @@ bool LoopCloser::Validates(const RegistrationValidation& v) const {
 }
 
 LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& current,
-                                          const Pose2& guess) const {
+                                          const Pose2& guess, bool all_points) const {
   const ProjectorGeometry geometry = ProjectorGeometry::FullCircle(options_.validation_bins, 30.0);
   Nicp coarse(coarse_), fine(fine_);
   Attempt attempt;
   Cloud reference_own, current_own;
-  const Cloud& reference_points = ClosurePoints(reference, &reference_own);
-  const Cloud& current_points = ClosurePoints(current, &current_own);
+  const Cloud& reference_points = all_points ? reference : ClosurePoints(reference, &reference_own);
+  const Cloud& current_points = all_points ? current : ClosurePoints(current, &current_own);
   const bool own_points = &reference_points != &reference || &current_points != &current;
   // The coarse result is only a guess for the fine alignment: not validated.
   const RegistrationResult first = coarse.AlignNearestNeighbour(
@@ -63,13 +63,18 @@ LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& c
   // weak geometry that only a modest share of the new map agrees with: a slide along a corridor
   // whose few cross features happen to match (intel: two consecutive nodes laid ~1 m along an
   // old stretch, ratios 0.017 / 0.012, inliers 0.58 / 0.52; that run's validated alignments have
-  // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept.
+  // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept. By the own
+  // points, degenerate may only mean that the own scans saw less than the inherited points do:
+  // tried again with all (LoopClosingOptions::all_points_if_degenerate).
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
       second.information.topLeftCorner<2, 2>());
   const Eigen::Vector2d lambda = eigen.eigenvalues();
   const bool weak = lambda.x() < options_.weak_information_ratio * lambda.y() &&
                     second.validation.inlier_ratio < options_.weak_min_inlier_ratio;
   if (!(lambda.x() > options_.min_information_ratio * lambda.y()) || weak) {
+    if (own_points && options_.all_points_if_degenerate) {
+      return AlignFrom(reference, current, guess, true);
+    }
     attempt.degenerate = true;
     return attempt;
   }

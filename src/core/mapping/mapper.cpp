@@ -98,8 +98,9 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
     tracker_T_base = tracked.tracker_T_base;
     failed = tracked.failed;
     // Accumulate the stretch covariance: node_T_current = node_T_previous * step.
-    const Pose2 node_T_previous =
-        last_node_ ? tracker_T_node_.at(*last_node_).Between(last_tracker_T_base_) : Pose2();
+    const Pose2 tracker_T_node = last_node_ ? tracker_T_node_.at(*last_node_)
+                                            : tracker_T_stretch_start_.value_or(Pose2());
+    const Pose2 node_T_previous = tracker_T_node.Between(last_tracker_T_base_);
     const Pose2 step = last_tracker_T_base_.Between(tracker_T_base);
     const Eigen::Matrix3d j1 = ComposeJacobianLeft(node_T_previous, step);
     const Eigen::Matrix3d j2 = ComposeJacobianRight(node_T_previous, step);
@@ -121,14 +122,14 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
   }
   MaybeAddWaypoint(input, tracker_T_base);
 
-  if (!last_node_) {
-    CreateNode(input.scan.stamp_s, tracker_T_base, false);
-  } else {
-    const Pose2 since_node = tracker_T_node_.at(*last_node_).Between(tracker_T_base);
-    if (failed || since_node.translation().norm() >= options_.tracker.node_translation_m ||
-        std::abs(since_node.theta()) >= options_.tracker.node_rotation_rad) {
-      CreateNode(input.scan.stamp_s, tracker_T_base, stretch_after_failure_);
-    }
+  if (!tracker_T_stretch_start_) {
+    tracker_T_stretch_start_ = tracker_T_base;
+    return ScanOutcome::kProcessed;
+  }
+  const Pose2 since_start = tracker_T_stretch_start_->Between(tracker_T_base);
+  if (failed || since_start.translation().norm() >= options_.tracker.node_translation_m ||
+      std::abs(since_start.theta()) >= options_.tracker.node_rotation_rad) {
+    CreateNode(input.scan.stamp_s, tracker_T_base, stretch_after_failure_);
   }
   return ScanOutcome::kProcessed;
 }
@@ -150,13 +151,17 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
   node.id = next_node_id_++;
   node.session_id = session_id_;
   node.stamp_s = stamp_s;
-  node.map_T_node = MapTTracker() * tracker_T_base;
+  // The first node of a chain stands at its stretch's start (see tracker_T_stretch_start_).
+  const bool first_of_chain = !last_node_;
+  const Pose2 tracker_T_node =
+      first_of_chain ? tracker_T_stretch_start_.value_or(tracker_T_base) : tracker_T_base;
+  node.map_T_node = MapTTracker() * tracker_T_node;
   if (!origin_node_) {
     origin_node_ = node.id;
     node_T_origin_ = Pose2();
   }
   CleanFinishedNode();
-  const Pose2 node_T_tracker = tracker_T_base.inverse();
+  const Pose2 node_T_tracker = tracker_T_node.inverse();
   node.cloud = Transform(node_T_tracker, tracker_.local_map());
   for (PendingWaypoint& w : pending_waypoints_) {
     node.waypoints.push_back(
@@ -175,7 +180,7 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
     OdometryEdge edge;
     edge.from = *last_node_;
     edge.to = node.id;
-    edge.from_T_to = tracker_T_node_.at(*last_node_).Between(tracker_T_base);
+    edge.from_T_to = tracker_T_node_.at(*last_node_).Between(tracker_T_node);
     // A stretch of skipped scans only has no motion and no uncertainty; keep it invertible.
     const auto information = [](const Eigen::Matrix3d& covariance) {
       const Eigen::Matrix3d inverse = (covariance + 1e-9 * Eigen::Matrix3d::Identity()).inverse();
@@ -188,11 +193,16 @@ void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_
     edge.after_tracker_failure = after_failure;
     edges_.push_back(edge);
   }
-  stretch_covariance_.setZero();
-  stretch_gating_covariance_.setZero();
-  stretch_after_failure_ = false;
+  // What the tracker accumulated runs on from the node's frame: a chain's first node stands at its
+  // stretch's start, so that stretch is part of the next edge.
+  if (!first_of_chain) {
+    stretch_covariance_.setZero();
+    stretch_gating_covariance_.setZero();
+    stretch_after_failure_ = false;
+  }
   if (after_failure && !doubtful_since_) doubtful_since_ = node.id;
-  tracker_T_node_[node.id] = tracker_T_base;
+  tracker_T_node_[node.id] = tracker_T_node;
+  tracker_T_stretch_start_ = tracker_T_base;
   last_node_ = node.id;
   GraphNode graph_node;
   graph_node.id = node.id;

@@ -36,6 +36,7 @@ Status Mapper::SetMode(MapperMode mode) {
   if (has_last_processed_) {
     initial_map_T_base_.reset();
     last_node_.reset();
+    tracker_T_stretch_start_.reset();
     const Pose2 map_T_base = map_T_tracker * last_tracker_T_base_;
     if (!nodes_.empty()) session_anchor_ = NearestNode(map_T_base);
   }

@@ -92,6 +92,33 @@ TEST(LoopCloser, AMapWithoutInheritedPointsAlignsAsBefore) {
                    AlignWith(all_points, old_map, old_T_new).translation_m);
 }
 
+TEST(LoopCloser, AnOwnCorridorViewIsAlignedByAllThePoints) {
+  // The old map's own scans saw 4 m of a corridor (nothing pins the alignment along it); the map
+  // it took in saw the corridor's end 3 m on, placed right. The new map sees both.
+  std::vector<Segment> corridor = test_support::Corridor();
+  corridor.push_back(Segment{Eigen::Vector2d(3.0, -1.0), Eigen::Vector2d(3.0, 1.0)});
+  Cloud old_map = CloudSeenFrom(test_support::Corridor(), Pose2(), 4.0);
+  const Pose2 old_T_elsewhere(1.5, 0.2, 0.1);
+  for (RichPoint point : Transform(old_T_elsewhere, CloudSeenFrom(corridor, old_T_elsewhere, 20))) {
+    point.inherited = true;
+    old_map.push_back(point);
+  }
+  const Pose2 old_T_new(0.8, -0.2, 0.3);
+  const Cloud new_map = CloudSeenFrom(corridor, old_T_new, 20);
+  const Pose2 guess = old_T_new * Pose2(0.2, -0.1, 0.05);
+
+  LoopCloser closer(LoopClosingOptions{}, RegistrationOptions{});
+  const auto aligned = closer.AlignLocalMaps(old_map, new_map, {guess});
+  ASSERT_TRUE(aligned.has_value());
+  EXPECT_LT((aligned->translation() - old_T_new.translation()).norm(), 0.01);
+  EXPECT_LT(std::abs(NormalizeAngle(aligned->theta() - old_T_new.theta())), 0.005);
+
+  LoopClosingOptions own_only;
+  own_only.all_points_if_degenerate = false;
+  LoopCloser refusing(own_only, RegistrationOptions{});
+  EXPECT_FALSE(refusing.AlignLocalMaps(old_map, new_map, {guess}).has_value());
+}
+
 TEST(LoopCloser, OwnPointOptionsAreValidated) {
   LoopClosingOptions options;
   options.own_points_min = -1;

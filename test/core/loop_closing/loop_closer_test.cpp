@@ -4,6 +4,8 @@
 
 #include <map>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "testing/pose_graphs.h"
@@ -96,6 +98,44 @@ TEST(LoopCloser, AnOldSurfaceWhereTheNewMapSeesThroughRefusesAPartialOverlap) {
                   .AlignLocalMaps(new_map, CloudSeenFrom(test_support::IrregularRoom(), a, 20),
                                   {truth.inverse()})
                   .has_value());
+}
+
+TEST(LoopCloser, ALoadedMapsNodeAtTheStartIsACandidateOfTheSessionsFirstNode) {
+  // A session on a loaded map: its first node (session 1) is tied to the loaded node where it
+  // starts (session 0) by the odometry edge of the initial pose, and the next node of its own
+  // session follows 1.5 m on. The loaded node is searched (the tie is no tracker measurement);
+  // the session's own neighbour, nearer than min_graph_distance_m along odometry, is not.
+  const auto room = test_support::IrregularRoom();
+  const Pose2 start(-1.0, 0.0, 0.0), next(0.5, 0.2, 0.1);
+  PoseGraph graph;
+  for (const auto& [id, session, pose] :
+       {std::tuple<GraphNodeId, int, Pose2>{0, 0, start}, {1, 1, start}, {2, 1, next}}) {
+    GraphNode node;
+    node.id = id;
+    node.session_id = session;
+    node.pose = pose;
+    ASSERT_TRUE(graph.AddNode(node).ok());
+  }
+  for (const auto& [from, to] : {std::pair<GraphNodeId, GraphNodeId>{0, 1}, {1, 2}}) {
+    GraphEdge edge;
+    edge.from = from;
+    edge.to = to;
+    edge.measurement = graph.node(from).pose.Between(graph.node(to).pose);
+    edge.information = Eigen::Vector3d(4.0, 4.0, 25.0).asDiagonal();
+    edge.kind = EdgeKind::kOdometry;
+    ASSERT_TRUE(graph.AddEdge(edge).ok());
+  }
+  const std::map<GraphNodeId, Cloud> clouds = {{0, CloudSeenFrom(room, start, 8)},
+                                               {1, CloudSeenFrom(room, start, 8)},
+                                               {2, CloudSeenFrom(room, next, 8)}};
+  auto cloud_of = [&](GraphNodeId id) -> const Cloud& { return clouds.at(id); };
+  MapperStats stats;
+  LoopCloser closer(LoopClosingOptions{}, RegistrationOptions{});
+  closer.SearchFrom(graph, 1, cloud_of, stats, false);
+  EXPECT_EQ(stats.counters["loop_closure_alignments"], 1u);
+  ASSERT_EQ(closer.buffer().size(), 1u);
+  EXPECT_EQ(closer.buffer().front().old, 0);
+  EXPECT_LT(closer.buffer().front().local_T_old.translation().norm(), 0.02);
 }
 
 TEST(LoopCloser, AfterATrackerFailureATurnedNodeIsStillAligned) {

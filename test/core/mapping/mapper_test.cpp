@@ -93,10 +93,16 @@ TEST(Mapper, CreatesANodeEveryStretchWithWaypointsAndEdges) {
   Mapper mapper(MapperOptions{});
   for (const auto& input : drive.inputs) mapper.AddScan(input);
   mapper.Finish();
-  // 18 m in 2.5 m stretches: the first node, 7 full stretches and the last partial one.
+  // 18 m in 2.5 m stretches: the first node (at the start, holding the first stretch), 6 full
+  // stretches and the last partial one.
   EXPECT_GE(mapper.nodes().size(), 8u);
   EXPECT_LE(mapper.nodes().size(), 9u);
   EXPECT_EQ(mapper.edges().size(), mapper.nodes().size() - 1);
+  // The first node stands where the drive started and holds the first stretch (21 scans).
+  const LocalMapNode& first = mapper.nodes().begin()->second;
+  EXPECT_LT((first.map_T_node.translation() - mapper.Trajectory().front().pose.translation()).norm(),
+            1e-9);
+  EXPECT_GE(first.waypoints.size(), 20u);
   std::size_t waypoints = 0;
   for (const auto& [id, node] : mapper.nodes()) {
     waypoints += node.waypoints.size();
@@ -107,9 +113,10 @@ TEST(Mapper, CreatesANodeEveryStretchWithWaypointsAndEdges) {
   for (std::size_t i = 0; i < mapper.edges().size(); ++i) {
     const OdometryEdge& edge = mapper.edges()[i];
     EXPECT_EQ(edge.to, edge.from + 1);
-    // Every stretch is 2.5 m (to the next scan), except the last one that Finish() closes.
+    // Every stretch is 2.5 m (to the next scan), except the last one that Finish() closes; the
+    // first edge runs from the start over two.
     if (i + 1 < mapper.edges().size()) {
-      EXPECT_LT(std::abs(edge.from_T_to.translation().norm() - 2.5), 0.15);
+      EXPECT_LT(std::abs(edge.from_T_to.translation().norm() - (i == 0 ? 5.0 : 2.5)), 0.15);
     }
     EXPECT_TRUE(edge.information.allFinite());
     EXPECT_GT(edge.information.determinant(), 0.0);
@@ -266,7 +273,7 @@ PersonInFinishedNode MapPastALeavingPerson(int clean_finished_nodes, int clean_m
   options.tracker.clean_moved_nodes = clean_moved_nodes;
   Mapper mapper(options);
   std::vector<Pose2> truth;
-  for (int i = 0; i < 50; ++i) {  // 6 m: the first node at 2.5 m, the second at 5 m
+  for (int i = 0; i < 50; ++i) {  // 6 m: the first node (at the start) made at 2.5 m, then 5 m
     truth.emplace_back(0.12 * i, 0.5, 0.0);
     std::vector<Eigen::Vector3d> people;
     if (mapper.nodes().empty()) people.push_back(person);
@@ -294,7 +301,8 @@ TEST(Mapper, AFinishedNodeForgetsWhatTheNextStretchSawThrough) {
   const PersonInFinishedNode kept = MapPastALeavingPerson(0, 0);
   const PersonInFinishedNode cleaned = MapPastALeavingPerson(1, 0);
   // The person stood still while the node was built: seen in place, not seen moving, so cleaning
-  // only the seen-moving points of finished nodes leaves them.
+  // only the seen-moving points of finished nodes leaves them (all but a few on its outline, where
+  // scans from along the route fused points across its curve: 21 of 23 here).
   const PersonInFinishedNode moved_only = MapPastALeavingPerson(0, 3);
   std::printf(
       "person points in the finished node: %d of %zu kept, %d of %zu cleaned, %d of %zu with "
@@ -303,7 +311,7 @@ TEST(Mapper, AFinishedNodeForgetsWhatTheNextStretchSawThrough) {
       moved_only.person_points, moved_only.cloud_points);
   ASSERT_GE(kept.person_points, 5);  // the snapshot holds the person
   EXPECT_EQ(cleaned.person_points, 0);
-  EXPECT_EQ(moved_only.person_points, kept.person_points);
+  EXPECT_GE(moved_only.person_points, kept.person_points * 4 / 5);
   // Only the person (and a few grazing points) may go: the walls stay.
   EXPECT_GE(cleaned.cloud_points + kept.person_points, kept.cloud_points * 95 / 100);
   EXPECT_GE(moved_only.cloud_points, kept.cloud_points * 95 / 100);

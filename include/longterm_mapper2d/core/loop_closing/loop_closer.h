@@ -72,12 +72,14 @@ class LoopCloser {
 
  private:
   // One alignment from one guess: the validated pose, or nothing (`degenerate`: refused because
-  // the geometry pins only one direction). Const and self-contained: runs on several threads.
+  // the geometry pins only one direction). `all_points`: by all the points, not the own ones
+  // (ClosurePoints). Const and self-contained: runs on several threads.
   struct Attempt {
     std::optional<Pose2> pose;
     bool degenerate = false;
   };
-  Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess) const;
+  Attempt AlignFrom(const Cloud& reference, const Cloud& current, const Pose2& guess,
+                    bool all_points = false) const;
   // The points of a local map that alignments use (LoopClosingOptions::align_own_points): its
   // own points, copied into `own`, or the whole cloud.
   const Cloud& ClosurePoints(const Cloud& cloud, Cloud* own) const;

@@ -96,6 +96,11 @@ struct LoopClosingOptions {
   // within their spread; ten sessions as robust as before (README, "Accuracy").
   bool align_own_points = true;
   int own_points_min = 100;
+  // An alignment by the own points that comes out degenerate (see min_information_ratio) is tried
+  // again with all the points: a merged map's own scans may have seen only a corridor while the
+  // maps it took in saw its ends. Without it, intel's docking corridor (the first node of every
+  // session) never closed with the next session's and each session left one more node there.
+  bool all_points_if_degenerate = true;
   // After a tracker failure, until a closure ties the new nodes to older ones, an alignment that
   // fails from the graph's guess is tried again with the new node turned by +-k * step,
   // k = 1..steps (0: never). Only then: for every node it would double the alignment time.
@@ -210,6 +215,7 @@ struct LoopClosingOptions {
     v("weak_min_inlier_ratio", weak_min_inlier_ratio);
     v("align_own_points", align_own_points);
     v("own_points_min", own_points_min);
+    v("all_points_if_degenerate", all_points_if_degenerate);
     v("recovery_heading_steps", recovery_heading_steps);
     v("recovery_heading_step_rad", recovery_heading_step_rad);
     v("correlative_search", correlative_search);

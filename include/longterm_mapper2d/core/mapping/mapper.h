@@ -157,6 +157,14 @@ class Mapper {
   Pose2 last_odom_T_base_;     // at the last processed scan
   Pose2 last_tracker_T_base_;  // at the last processed scan
   std::optional<Pose2> last_waypoint_tracker_T_base_;
+  // Where the current stretch began: where the last node was made, or the first scan of a stretch
+  // with no node before it (a session's first, or the first after localization). The next node is
+  // made node_translation_m / node_rotation_rad from here. A stretch with no node before it makes
+  // its node at its end like any other, but in the frame of its start: the session's start stays
+  // a node (the gauge, the origin, the initial pose) and that node holds the whole first stretch.
+  // Made at the first scan, it held that one scan (a view along intel's docking corridor, which no
+  // closure aligned with), and every session left one more such node behind.
+  std::optional<Pose2> tracker_T_stretch_start_;
   Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
   Eigen::Matrix3d stretch_gating_covariance_ = Eigen::Matrix3d::Zero();  // ... for the gate
   bool stretch_after_failure_ = false;
