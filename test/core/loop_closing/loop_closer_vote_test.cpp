@@ -206,5 +206,38 @@ TEST(LoopCloser, AHypothesisTheGraphAgreesWithRanksAboveALookAlikeOfEqualSupport
   for (const GraphEdge& edge : accepted) EXPECT_TRUE(edge.to == 3 || edge.to == 4);
 }
 
+TEST(LoopCloser, AClosureBetweenTwoWaitingNodesIsNoEvidenceForAReturn) {
+  // New nodes 11-14 are right where the graph has them (old nodes 1-4 below them, 2 m apart,
+  // from long ago). Node 14 closes a short loop with node 12, which waits for its own vote too
+  // (its candidate against old node 5 is wrong): right, and the graph agrees. Node 13 aligned
+  // with old node 1, a look-alike 4 m back. A return moves the waiting nodes rigidly, so
+  // 14 -> 12 agrees with every return as well as with the graph: counted, it was the second
+  // distinct node behind the wrong one.
+  std::map<GraphNodeId, Pose2> poses;
+  for (int i = 1; i <= 5; ++i) poses[i] = Pose2(2.0 * i, -1.0, 0.0);
+  for (int i = 1; i <= 4; ++i) poses[10 + i] = Pose2(2.0 * i, 0.0, 0.0);
+  const PoseGraph graph = NodesAt(poses);
+  const Pose2 look_alike = poses.at(13).Between(poses.at(3)) * Pose2(4.0, 0.0, 0.0);
+  auto add_candidates = [&](LoopCloser& closer) {
+    closer.AddCandidate({14, 12, poses.at(14).Between(poses.at(12))});
+    closer.AddCandidate({13, 1, look_alike * poses.at(3).Between(poses.at(1))});
+    closer.AddCandidate({12, 5, Pose2(-1.0, 5.0, 2.0)});
+  };
+  MapperStats stats;
+  const std::vector<GraphEdge> accepted =
+      VoteOnce(LoopClosingOptions{}, graph, add_candidates, stats);
+  for (const GraphEdge& edge : accepted) {
+    EXPECT_FALSE(edge.to == 1 || edge.to == 5) << edge.from << " -> " << edge.to;
+  }
+  EXPECT_TRUE(accepted.empty());
+  // A right return of two distinct nodes is accepted, and the short loop with it.
+  auto add_return = [&](LoopCloser& closer) {
+    closer.AddCandidate({14, 12, poses.at(14).Between(poses.at(12))});
+    closer.AddCandidate({13, 3, poses.at(13).Between(poses.at(3))});
+    closer.AddCandidate({12, 2, poses.at(12).Between(poses.at(2))});
+  };
+  EXPECT_EQ(VoteOnce(LoopClosingOptions{}, graph, add_return, stats).size(), 3u);
+}
+
 }  // namespace
 }  // namespace longterm_mapper2d

@@ -26,6 +26,10 @@ struct LaserCase {
   double fov_deg;
   double laser_x_m;
   bool interlaced;
+  int seed = 11;
+  // Bounds on the errors in the frame of the first scan (see the measured figures below).
+  double max_rmse_m = 0.15;
+  double max_error_m = 0.4;
 };
 
 // Test names and failure messages show the laser, not the struct's bytes.
@@ -74,7 +78,7 @@ TEST_P(OtherLasers, ThePatrolIsTrackedAndItsLoopsClosed) {
   simulation.fov_rad = laser.fov_deg * M_PI / 180.0;
   simulation.laser_x_m = laser.laser_x_m;
   simulation.interlaced = laser.interlaced;
-  SessionSimulator simulator(*world, 1, simulation, 11);
+  SessionSimulator simulator(*world, 1, simulation, laser.seed);
   const auto steps = simulator.Run();
   ASSERT_GT(steps.size(), 2u);
   if (laser.interlaced) {
@@ -104,8 +108,8 @@ TEST_P(OtherLasers, ThePatrolIsTrackedAndItsLoopsClosed) {
   EXPECT_LE(Counter(mapper, "tracker_failures"), 1u);
   EXPECT_GT(Counter(mapper, "loop_closures_accepted"), 0u);
   EXPECT_LT(aligned_rmse_m, 0.06);
-  EXPECT_LT(rmse_m, 0.15);
-  EXPECT_LT(max_m, 0.4);
+  EXPECT_LT(rmse_m, laser.max_rmse_m);
+  EXPECT_LT(max_m, laser.max_error_m);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -113,7 +117,17 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(LaserCase{"default_271_beams_270_deg", 271, 270.0, 0.1, false},
                       LaserCase{"interlaced_181_beams_180_deg", 181, 180.0, 0.0, true},
                       LaserCase{"361_beams_180_deg", 361, 180.0, 0.0, false},
-                      LaserCase{"laser_0_22_m_ahead", 271, 270.0, 0.22, false}),
+                      LaserCase{"laser_0_22_m_ahead", 271, 270.0, 0.22, false},
+                      // Broke (rigidly aligned 4.04 m) while a closure between two recent nodes
+                      // counted as evidence for a return; now 0.038 m, 0.176 m in the first
+                      // scan's frame. See
+                      // LoopCloser.AClosureBetweenTwoWaitingNodesIsNoEvidenceForAReturn.
+                      LaserCase{"181_beams_180_deg", 181, 180.0, 0.0, false, 11, 0.25, 0.4},
+                      // Broke (rigidly aligned 0.97 m) while a turned retry of the tracker could
+                      // slide along a corridor; now 0.036 m, 0.30 m (max 0.57 m) in the first
+                      // scan's frame, which a heading error early in the patrol turns. See
+                      // Tracker.ATurnedRetryAlongACorridorKeepsOdometrysPosition.
+                      LaserCase{"181_beams_180_deg_seed_9", 181, 180.0, 0.0, false, 9, 0.4, 0.8}),
     [](const ::testing::TestParamInfo<LaserCase>& info) { return std::string(info.param.name); });
 
 }  // namespace

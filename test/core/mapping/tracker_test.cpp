@@ -193,23 +193,33 @@ TEST(Tracker, ALocatedScanTakesItsPoseFromTheLocalMapAndLeavesTheMapAsItWas) {
   EXPECT_EQ(tracker.local_map().size(), map_before.size());
 }
 
-// Turning in place with a 180 deg laser, odometry reports 0.1 rad for a turn of `turn_rad` (a
-// wheel slipped): further off than the alignment from odometry's guess reaches. Returns the
-// tracker's result for that scan.
-TrackResult TrackASlippedTurn(int failure_heading_steps, double turn_rad, MapperStats& stats) {
-  MapperOptions options;
-  options.tracker.failure_heading_steps = failure_heading_steps;
+// Turning in place from `start` in `world` with a 180 deg laser of 181 beams, odometry reports
+// 0.1 rad for a turn of `turn_rad` (a wheel slipped): further off than the alignment from
+// odometry's guess reaches. Returns the tracker's result for the turned scan.
+TrackResult TrackASlippedTurn(const std::vector<Segment>& world, const Pose2& start,
+                              double max_range_m, const MapperOptions& options, double turn_rad,
+                              MapperStats& stats) {
   Tracker tracker(options);
   SyntheticLaser laser;
   laser.beams = 181;
   laser.fov_rad = M_PI;
+  laser.max_range_m = max_range_m;
   laser.range_noise_m = 0.01;
-  StartInTheIrregularRoom(laser, tracker, stats);
+  ScanInput first;
+  first.scan = CastScan(world, {}, start, laser, 1);
+  tracker.Reset(first, start, stats);
   ScanInput input;
-  input.scan =
-      CastScan(test_support::IrregularRoom(), {}, kRoomStart * Pose2(0.0, 0.0, turn_rad), laser, 2);
+  input.scan = CastScan(world, {}, start * Pose2(0.0, 0.0, turn_rad), laser, 2);
   input.scan.stamp_s = 0.2;
-  return tracker.Track(input, kRoomStart, Pose2(0.0, 0.0, 0.1), stats);
+  return tracker.Track(input, start, Pose2(0.0, 0.0, 0.1), stats);
+}
+
+// The slipped turn in the irregular room.
+TrackResult TrackASlippedTurn(int failure_heading_steps, double turn_rad, MapperStats& stats) {
+  MapperOptions options;
+  options.tracker.failure_heading_steps = failure_heading_steps;
+  return TrackASlippedTurn(test_support::IrregularRoom(), kRoomStart, SyntheticLaser{}.max_range_m,
+                           options, turn_rad, stats);
 }
 
 TEST(Tracker, AScanTurnedFartherThanOdometrySaysIsFoundFromTurnedGuesses) {
@@ -225,6 +235,33 @@ TEST(Tracker, AScanTurnedFartherThanOdometrySaysIsFoundFromTurnedGuesses) {
   EXPECT_LT(std::abs(NormalizeAngle(result.tracker_T_base.theta() - truth.theta())), 0.005);
   EXPECT_EQ(with.counters["registrations_rescued_turned"], 1u);
   EXPECT_EQ(with.counters["tracker_failures"], 0u);
+}
+
+// The slipped turn (0.8 rad) in a featureless corridor, its ends out of the laser's 8 m.
+TrackResult TrackASlippedTurnInACorridor(double min_information_ratio, MapperStats& stats) {
+  MapperOptions options;
+  options.tracker.failure_heading_min_information_ratio = min_information_ratio;
+  return TrackASlippedTurn(test_support::Corridor(), Pose2(0.0, 0.2, 0.0), 8.0, options, 0.8,
+                           stats);
+}
+
+TEST(Tracker, ATurnedRetryAlongACorridorKeepsOdometrysPosition) {
+  // Only a turned guess reaches the scan's heading; without a prior nothing holds the position
+  // along the corridor, and the rescue slid 0.67 m (measured with the check off).
+  const Pose2 truth = Pose2(0.0, 0.2, 0.0) * Pose2(0.0, 0.0, 0.8);
+  MapperStats stats;
+  const TrackResult result = TrackASlippedTurnInACorridor(0.005, stats);
+  ASSERT_FALSE(result.failed);
+  EXPECT_GE(stats.counters["registrations_turned_degenerate"], 1u);
+  EXPECT_EQ(stats.counters["registrations_rescued_turned"], 1u);
+  EXPECT_LT((result.tracker_T_base.translation() - truth.translation()).norm(), 0.02);
+  EXPECT_LT(std::abs(NormalizeAngle(result.tracker_T_base.theta() - truth.theta())), 0.01);
+
+  MapperStats unchecked;
+  const TrackResult slid = TrackASlippedTurnInACorridor(0.0, unchecked);
+  ASSERT_FALSE(slid.failed);
+  EXPECT_EQ(unchecked.counters["registrations_turned_degenerate"], 0u);
+  EXPECT_GT((slid.tracker_T_base.translation() - truth.translation()).norm(), 0.3);
 }
 
 // The robot drives 2 m along a featureless corridor (ends out of range), one scan every 0.1 m.
@@ -285,11 +322,13 @@ TEST(Tracker, FailureHeadingOptionsAreValidated) {
   EXPECT_TRUE(errors.empty()) << errors.ToString();
   options.failure_heading_steps = -1;
   options.failure_heading_step_rad = 0.0;
+  options.failure_heading_min_information_ratio = 1.0;
   OptionErrors bad;
   options.Validate(bad);
-  ASSERT_EQ(bad.errors().size(), 2u) << bad.ToString();
+  ASSERT_EQ(bad.errors().size(), 3u) << bad.ToString();
   EXPECT_NE(bad.errors()[0].find("failure_heading_steps"), std::string::npos);
   EXPECT_NE(bad.errors()[1].find("failure_heading_step_rad"), std::string::npos);
+  EXPECT_NE(bad.errors()[2].find("failure_heading_min_information_ratio"), std::string::npos);
 }
 
 }  // namespace

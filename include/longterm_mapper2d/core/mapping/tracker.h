@@ -62,10 +62,12 @@ class Tracker {
   // processed scan's targets, no retry, the whole local map only if the targets do not validate.
   enum class RegistrationMode { kTrack, kLocate };
   // The last try before a failure: alignments without the prior from turned guesses
-  // (TrackerOptions::failure_heading_steps); the best validated one, or an unaccepted result.
+  // (TrackerOptions::failure_heading_steps), a degenerate one again holding odometry's position
+  // (failure_heading_min_information_ratio); the best validated one, or an unaccepted result.
   RegistrationResult AlignTurned(const ScanInput& input, const Cloud& base_points,
                                  const Cloud& targets, const Pose2& guess,
-                                 const ProjectorGeometry& geometry, MapperStats& stats);
+                                 const Pose2& odometry_step, const ProjectorGeometry& geometry,
+                                 MapperStats& stats);
   // Registers base_points (the scan's cloud) against the local map from guess, with the odometry
   // prior of the step if configured.
   RegistrationResult Register(const ScanInput& input, const Cloud& base_points, const Pose2& guess,

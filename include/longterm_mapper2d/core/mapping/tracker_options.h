@@ -83,6 +83,10 @@ struct TrackerOptions {
   // the new local map with odometry's heading error for good. 0: off.
   int failure_heading_steps = 3;
   double failure_heading_step_rad = 0.15;
+  // A turned alignment (no prior) whose position information is weaker than this ratio along
+  // one axis (smallest / largest eigenvalue) is anywhere along a corridor: it is aligned again
+  // holding odometry's position (the position part of the step's prior, heading free).
+  double failure_heading_min_information_ratio = 0.005;
 
   template <class V>
   void Visit(V& v) {
@@ -111,6 +115,7 @@ struct TrackerOptions {
     v("clean_moved_nodes", clean_moved_nodes);
     v("failure_heading_steps", failure_heading_steps);
     v("failure_heading_step_rad", failure_heading_step_rad);
+    v("failure_heading_min_information_ratio", failure_heading_min_information_ratio);
   }
   void Validate(OptionErrors& e) const {
     e.Require(min_translation_m >= 0.0, "min_translation_m", "must be non-negative");
@@ -135,6 +140,9 @@ struct TrackerOptions {
     e.Require(failure_heading_steps >= 0, "failure_heading_steps", "must be non-negative");
     e.Require(failure_heading_step_rad > 0.0 && failure_heading_step_rad < 1.0,
               "failure_heading_step_rad", "must be in (0, 1) rad");
+    e.Require(
+        failure_heading_min_information_ratio >= 0.0 && failure_heading_min_information_ratio < 1.0,
+        "failure_heading_min_information_ratio", "must be in [0, 1)");
     e.Require(registration_covariance_scale > 0.0, "registration_covariance_scale",
               "must be positive");
   }
