@@ -1,5 +1,4 @@
 // LoopCloser's alignment of two local maps from one guess and its validation.
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <optional>
 
@@ -66,12 +65,10 @@ LoopCloser::Attempt LoopCloser::AlignFrom(const Cloud& reference, const Cloud& c
   // a median ratio of 0.11 and inliers 0.68). Weak geometry that agrees well is kept. By the own
   // points, degenerate may only mean that the own scans saw less than the inherited points do:
   // tried again with all (LoopClosingOptions::all_points_if_degenerate).
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
-      second.information.topLeftCorner<2, 2>());
-  const Eigen::Vector2d lambda = eigen.eigenvalues();
-  const bool weak = lambda.x() < options_.weak_information_ratio * lambda.y() &&
+  const double ratio = PositionInformationRatio(second.information);
+  const bool weak = ratio < options_.weak_information_ratio &&
                     second.validation.inlier_ratio < options_.weak_min_inlier_ratio;
-  if (!(lambda.x() > options_.min_information_ratio * lambda.y()) || weak) {
+  if (!(ratio > options_.min_information_ratio) || weak) {
     if (own_points && options_.all_points_if_degenerate) {
       return AlignFrom(reference, current, guess, true);
     }

@@ -197,10 +197,8 @@ RegistrationResult Tracker::AlignTurned(const ScanInput& input, const Cloud& bas
     // result is aligned again holding odometry's position (the rescues on intel, aces and fr079
     // read ratios of 0.08-0.44 and are untouched; held, a bare corridor's position along it
     // comes from odometry alone).
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(
-        registration.information.topLeftCorner<2, 2>());
-    if (!(eigen.eigenvalues().x() >
-          options_.tracker.failure_heading_min_information_ratio * eigen.eigenvalues().y())) {
+    if (!(PositionInformationRatio(registration.information) >
+          options_.tracker.failure_heading_min_information_ratio)) {
       ++stats.counters["registrations_turned_degenerate"];
       registration = nicp_.AlignProjective(targets, base_points, turned, input.base_T_laser,
                                            geometry, position_prior);

@@ -1,6 +1,7 @@
 #include "longterm_mapper2d/core/registration/nicp.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
@@ -77,6 +78,15 @@ struct Accumulator {
 };
 
 }  // namespace
+
+double PositionInformationRatio(const Eigen::Matrix3d& information) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(information.topLeftCorner<2, 2>(),
+                                                             Eigen::EigenvaluesOnly);
+  const Eigen::Vector2d lambda = eigen.eigenvalues();  // ascending
+  // Not (> 0) rather than (<= 0): a NaN information has no position content either.
+  if (!(lambda.y() > 0.0)) return 0.0;
+  return lambda.x() / lambda.y();
+}
 
 template <class FindPairs>
 RegistrationResult Nicp::Solve(const Cloud& reference, const Cloud& current, const Pose2& guess,

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "longterm_mapper2d/core/cloud/scan_to_cloud.h"
 #include "testing/synthetic_scans.h"
 
@@ -69,9 +72,9 @@ TEST(Nicp, NearestNeighbourAlignsWithALargeRotationError) {
   EXPECT_LT(std::abs(NormalizeAngle(result.reference_T_current.theta() - truth.theta())), 1e-4);
   EXPECT_TRUE(result.validation.accepted);
   // Without a viewpoint the same pose, not validated (the loop closer's coarse step).
-  const auto unvalidated = nicp.AlignNearestNeighbour(
-      s.reference, s.current, Pose2(), ProjectorGeometry::FullCircle(720, 30.0), std::nullopt,
-      std::nullopt);
+  const auto unvalidated = nicp.AlignNearestNeighbour(s.reference, s.current, Pose2(),
+                                                      ProjectorGeometry::FullCircle(720, 30.0),
+                                                      std::nullopt, std::nullopt);
   EXPECT_LT((unvalidated.reference_T_current.translation() - truth.translation()).norm(), 1e-3);
   EXPECT_FALSE(unvalidated.validation.accepted);
   EXPECT_EQ(unvalidated.validation.correspondences, 0);
@@ -96,6 +99,40 @@ TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {
   EXPECT_NEAR(result.reference_T_current.theta(), truth.theta(), 0.005);
   // The information says so: little along x, much across.
   EXPECT_LT(result.information(0, 0), 0.01 * result.information(1, 1));
+}
+
+TEST(Nicp, PositionInformationRatioIsTheWeakOverTheStrongAxis) {
+  // The ratio ignores the heading and does not depend on how the weak axis is turned.
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  rotation.topLeftCorner<2, 2>() << c, -s, s, c;
+  const Eigen::Matrix3d corridor = Eigen::Vector3d(4.0, 1000.0, 1e6).asDiagonal();
+  EXPECT_NEAR(PositionInformationRatio(corridor), 0.004, 1e-12);
+  EXPECT_NEAR(PositionInformationRatio(rotation * corridor * rotation.transpose()), 0.004, 1e-9);
+  EXPECT_NEAR(PositionInformationRatio(Eigen::Matrix3d::Identity()), 1.0, 1e-12);
+  // No position content, or a broken one: nothing is pinned.
+  EXPECT_EQ(PositionInformationRatio(Eigen::Matrix3d::Zero()), 0.0);
+  Eigen::Matrix3d broken = Eigen::Matrix3d::Identity();
+  broken(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(PositionInformationRatio(broken) > 0.0);
+
+  // From alignments: a bare corridor pins the position across only, a room in every direction.
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;
+  Nicp nicp(RegistrationOptions{});
+  const Pose2 truth(0.3, 0.05, 0.02);
+  const Scene corridor_scene = MakeSetup(test_support::Corridor(), truth, 0.0, laser);
+  const auto along = nicp.AlignProjective(
+      corridor_scene.reference, corridor_scene.current, Pose2(), Pose2(),
+      ProjectorGeometry::FromScan(corridor_scene.current_scan, 30.0), std::nullopt);
+  ASSERT_TRUE(along.solved);
+  EXPECT_LT(PositionInformationRatio(along.information), 0.005);
+  const Scene room_scene = MakeSetup(test_support::IrregularRoom(), truth, 0.0);
+  const auto room = nicp.AlignProjective(room_scene.reference, room_scene.current, Pose2(), Pose2(),
+                                         ProjectorGeometry::FromScan(room_scene.current_scan, 30.0),
+                                         std::nullopt);
+  ASSERT_TRUE(room.solved);
+  EXPECT_GT(PositionInformationRatio(room.information), 0.05);
 }
 
 TEST(Nicp, ReportsThePriorsShareOfTheInformation) {

@@ -50,6 +50,11 @@ struct RegistrationResult {
   RegistrationValidation validation;
 };
 
+// How well an estimate's position is pinned along its weakest direction against its strongest:
+// smallest over largest eigenvalue of the position block of `information` (1: as well in every
+// direction; near 0: a corridor, free along it). 0 for an information without position content.
+double PositionInformationRatio(const Eigen::Matrix3d& information);
+
 // NICP for 2D clouds with normals (Serafin & Grisetti): point-to-line plus normal error, damped
 // Gauss-Newton with a robust cap and an optional prior. Reuses its buffers between calls.
 class Nicp {
