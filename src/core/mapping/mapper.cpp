@@ -27,9 +27,9 @@ Pose2 Mapper::MapTTracker() const {
 void Mapper::Record(double stamp_s, const Pose2& tracker_T_base, const Pose2& odom_T_base) {
   if (mode_ == MapperMode::kLocalization) {
     trajectory_.push_back(
-        {stamp_s, false, true, 0, MapTTracker() * tracker_T_base, tracker_T_base});
+        {stamp_s, false, true, 0, MapTTracker() * tracker_T_base, tracker_T_base, std::nullopt});
   } else {
-    trajectory_.push_back({stamp_s, false, false, 0, tracker_T_base, tracker_T_base});
+    trajectory_.push_back({stamp_s, false, false, 0, tracker_T_base, tracker_T_base, std::nullopt});
   }
   map_T_odom_ = MapTTracker() * tracker_T_base * odom_T_base.inverse();
 }
@@ -98,8 +98,8 @@ ScanOutcome Mapper::AddScan(const ScanInput& input) {
     tracker_T_base = tracked.tracker_T_base;
     failed = tracked.failed;
     // Accumulate the stretch covariance: node_T_current = node_T_previous * step.
-    const Pose2 tracker_T_node = last_node_ ? tracker_T_node_.at(*last_node_)
-                                            : tracker_T_stretch_start_.value_or(Pose2());
+    const Pose2 tracker_T_node =
+        last_node_ ? tracker_T_node_.at(*last_node_) : tracker_T_stretch_start_.value_or(Pose2());
     const Pose2 node_T_previous = tracker_T_node.Between(last_tracker_T_base_);
     const Pose2 step = last_tracker_T_base_.Between(tracker_T_base);
     const Eigen::Matrix3d j1 = ComposeJacobianLeft(node_T_previous, step);
@@ -144,6 +144,14 @@ void Mapper::MaybeAddWaypoint(const ScanInput& input, const Pose2& tracker_T_bas
   }
   last_waypoint_tracker_T_base_ = tracker_T_base;
   pending_waypoints_.push_back({tracker_T_base, input.base_T_laser, input.scan});
+  const TrajectoryRefinementOptions& refinement = options_.trajectory_refinement;
+  if (refinement.enabled && refinement.max_scans > 0) {
+    // The scan's entry is the last one recorded (AddScan records before it adds the waypoint).
+    refinement_scans_.push_back({trajectory_.size() - 1, input.base_T_laser, input.scan});
+    if (refinement_scans_.size() > static_cast<std::size_t>(refinement.max_scans)) {
+      refinement_scans_.pop_front();
+    }
+  }
 }
 
 void Mapper::CreateNode(double stamp_s, const Pose2& tracker_T_base, bool after_failure) {
@@ -253,6 +261,7 @@ Status Mapper::OptimizeNow() {
   if (stats_.counters["optimizations_unusable"] != before) {
     return Status::Error("the solve was unusable; the previous estimate is kept");
   }
+  RefineTrajectory();
   return Status::Ok();
 }
 
@@ -292,6 +301,7 @@ void Mapper::Finish() {
     trajectory_[i].node = *last_node_;
   }
   first_pending_entry_ = trajectory_.size();
+  RefineTrajectory();
 }
 
 std::vector<PosedScan> Mapper::WaypointScans() const {

@@ -135,7 +135,9 @@ void Mapper::MergeSet(const std::vector<NodeId>& ids) {
   const std::set<NodeId> gone(removed.begin(), removed.end());
   for (TrajectoryEntry& entry : trajectory_) {
     if (!entry.attached || !gone.count(entry.node)) continue;
-    entry.pose = map_T_survivor.Between(nodes_.at(entry.node).map_T_node) * entry.pose;
+    const Pose2 survivor_T_removed = map_T_survivor.Between(nodes_.at(entry.node).map_T_node);
+    entry.pose = survivor_T_removed * entry.pose;
+    if (entry.refined) entry.refined = survivor_T_removed * *entry.refined;
     entry.node = survivor;
   }
   for (auto& [id, record] : removed_nodes_) {

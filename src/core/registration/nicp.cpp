@@ -188,6 +188,18 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
                                                const std::optional<Pose2>& validation_viewpoint,
                                                const std::optional<PosePrior>& prior) {
   const NearestNeighbourGrid grid(reference, options_.max_correspondence_distance_m);
+  RegistrationResult result = AlignNearestNeighbour(grid, reference, current, guess, prior);
+  if (validation_viewpoint) {
+    result.validation =
+        Validate(reference, current, result.reference_T_current, *validation_viewpoint, geometry);
+  }
+  return result;
+}
+
+RegistrationResult Nicp::AlignNearestNeighbour(const NearestNeighbourGrid& grid,
+                                               const Cloud& reference, const Cloud& current,
+                                               const Pose2& guess,
+                                               const std::optional<PosePrior>& prior) {
   auto find_pairs = [&](const Pose2& T, double cos_max_angle, double max_distance_sq) {
     pairs_.clear();
     const Eigen::Matrix2d R = T.rotation();
@@ -200,12 +212,7 @@ RegistrationResult Nicp::AlignNearestNeighbour(const Cloud& reference, const Clo
       if (best >= 0) pairs_.push_back({best, i});
     }
   };
-  RegistrationResult result = Solve(reference, current, guess, prior, find_pairs);
-  if (validation_viewpoint) {
-    result.validation =
-        Validate(reference, current, result.reference_T_current, *validation_viewpoint, geometry);
-  }
-  return result;
+  return Solve(reference, current, guess, prior, find_pairs);
 }
 
 RegistrationValidation Nicp::Validate(const Cloud& reference, const Cloud& current,

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 namespace longterm_mapper2d {
@@ -85,6 +86,52 @@ TEST(TrajectorySmoothing, AZeroWindowKeepsEachScansOwnNode) {
     EXPECT_EQ(smoothed[i].x(), in_map[i].x());
     EXPECT_EQ(smoothed[i].theta(), in_map[i].theta());
   }
+}
+
+TEST(TrajectoryCorrections, ScansWithoutACorrectionInTheirWindowAreUntouched) {
+  const Drive drive;
+  const std::vector<Pose2> in_map = drive.InMap(std::vector<Pose2>(drive.stamps.size()));
+  std::vector<std::optional<Pose2>> corrections(drive.stamps.size());
+  corrections[100] = Pose2(0.02, -0.01, 0.003);  // at 120 s
+  const auto corrected = AverageCorrections(drive.stamps, corrections, in_map, 1.9);
+  for (std::size_t i = 0; i < in_map.size(); ++i) {
+    const Pose2 expected = (i >= 91 && i <= 109) ? *corrections[100] * in_map[i] : in_map[i];
+    EXPECT_LT(Distance(corrected[i], expected), 1e-9) << i;
+    EXPECT_LT(std::abs(NormalizeAngle(corrected[i].theta() - expected.theta())), 1e-12) << i;
+  }
+}
+
+TEST(TrajectoryCorrections, AScanTakesTheMeanOfTheCorrectionsAroundIt) {
+  // Two corrections 1 s apart, far from the map origin (the sums are relative to the first):
+  // between them each scan takes their mean, past them only the nearer one.
+  const Drive drive;
+  const std::vector<Pose2> in_map =
+      drive.InMap(std::vector<Pose2>(drive.stamps.size(), Pose2(5000.0, -3000.0, 1.0)));
+  std::vector<std::optional<Pose2>> corrections(drive.stamps.size());
+  const Pose2 a(0.04, 0.0, 0.01), b(0.0, 0.02, -0.01);
+  // As map-frame corrections about each scan's own position: C = T * local * T^-1.
+  corrections[100] = in_map[100] * a * in_map[100].inverse();
+  corrections[105] = in_map[105] * b * in_map[105].inverse();
+  const auto corrected = AverageCorrections(drive.stamps, corrections, in_map, 1.0);
+  const Pose2 only_a = *corrections[100] * in_map[96];
+  EXPECT_LT(Distance(corrected[96], only_a), 1e-6);  // 0.8 s before the first: only it
+  const Pose2 with_a = *corrections[100] * in_map[102], with_b = *corrections[105] * in_map[102];
+  const Eigen::Vector2d mean = 0.5 * (with_a.translation() + with_b.translation());
+  EXPECT_LT((corrected[102].translation() - mean).norm(), 1e-6);
+  EXPECT_NEAR(NormalizeAngle(corrected[102].theta() - in_map[102].theta()), 0.0, 1e-9);
+}
+
+TEST(TrajectoryCorrections, CorrectionsStayWithinTheirStretch) {
+  const Drive drive;
+  const std::vector<Pose2> in_map = drive.InMap(std::vector<Pose2>(drive.stamps.size()));
+  std::vector<bool> in_stretch(drive.stamps.size(), true);
+  in_stretch[100] = false;  // e.g. a scan recorded in localization: ends a stretch
+  std::vector<std::optional<Pose2>> corrections(drive.stamps.size());
+  corrections[99] = Pose2(0.05, 0.0, 0.0);
+  std::vector<Pose2> corrected = in_map;
+  CorrectStretches(drive.stamps, in_stretch, corrections, 4.0, corrected);
+  EXPECT_LT(Distance(corrected[98], *corrections[99] * in_map[98]), 1e-9);
+  for (std::size_t i = 100; i < 110; ++i) EXPECT_LT(Distance(corrected[i], in_map[i]), 1e-12) << i;
 }
 
 }  // namespace

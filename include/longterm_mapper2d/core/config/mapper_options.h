@@ -13,6 +13,7 @@
 #include "longterm_mapper2d/core/mapping/maintenance_options.h"
 #include "longterm_mapper2d/core/mapping/motion_filter.h"
 #include "longterm_mapper2d/core/mapping/tracker_options.h"
+#include "longterm_mapper2d/core/mapping/trajectory_refiner.h"
 #include "longterm_mapper2d/core/mapping/trajectory_smoothing.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
 
@@ -34,6 +35,7 @@ struct MapperOptions {
   MaintenanceOptions maintenance;
   GridOptions grid;
   TrajectorySmoothingOptions trajectory;
+  TrajectoryRefinementOptions trajectory_refinement;
 
   template <class V>
   void Visit(V& v) {
@@ -50,6 +52,7 @@ struct MapperOptions {
     v.Section("maintenance", maintenance);
     v.Section("grid", grid);
     v.Section("trajectory", trajectory);
+    v.Section("trajectory_refinement", trajectory_refinement);
   }
   void Validate(OptionErrors& e) const {
     e.Section("input", input);
@@ -65,6 +68,7 @@ struct MapperOptions {
     e.Section("maintenance", maintenance);
     e.Section("grid", grid);
     e.Section("trajectory", trajectory);
+    e.Section("trajectory_refinement", trajectory_refinement);
   }
 };
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <deque>
 #include <map>
 #include <optional>
 #include <vector>
@@ -43,7 +44,8 @@ class Mapper {
   // Adds one scan. Every scan, processed or skipped, gets a pose in the trajectory.
   ScanOutcome AddScan(const ScanInput& input);
 
-  // Ends the session: the open stretch becomes the last node.
+  // Ends the session: the open stretch becomes the last node, the final closure check runs, and
+  // the trajectory is refined against the finished map (RefineTrajectory).
   void Finish();
   // What Finish() does to the graph, without ending the session: a last vote on the pending
   // loop-closure candidates, the final sweep (every node of this session searched again from the
@@ -51,6 +53,11 @@ class Mapper {
   // optimizer's iteration limit). Refused in localization mode (the map is frozen); an error if the
   // solve was unusable (the estimate is kept).
   Status OptimizeNow();
+  // Aligns the session's waypoint scans once more with the local maps at their current poses and
+  // places every scan of the trajectory by the corrections around it
+  // (TrajectoryRefinementOptions). Finish() and OptimizeNow() call it; later corrections of the
+  // graph carry the refined poses with their nodes.
+  void RefineTrajectory();
 
   // Starts this mapper as a new session on top of a saved map, before the first scan. The robot
   // is at `initial_pose` in the loaded map's frame at the first scan (default: where the map's
@@ -94,6 +101,13 @@ class Mapper {
     NodeId node = 0;
     Pose2 pose;            // node_T_base if attached, map_T_base if in_map, else tracker_T_base
     Pose2 tracker_T_base;  // as the tracker had it (the chain the trajectory is smoothed along)
+    std::optional<Pose2> refined;  // node_T_base as RefineTrajectory aligned the scan, if it did
+  };
+  // A waypoint's scan kept for RefineTrajectory, with the trajectory entry it belongs to.
+  struct RefinementScan {
+    std::size_t entry = 0;
+    Pose2 base_T_laser;
+    LaserScan scan;
   };
   struct PendingWaypoint {
     Pose2 tracker_T_base;
@@ -165,7 +179,7 @@ class Mapper {
   // Made at the first scan, it held that one scan (a view along intel's docking corridor, which no
   // closure aligned with), and every session left one more such node behind.
   std::optional<Pose2> tracker_T_stretch_start_;
-  Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();  // since the last node
+  Eigen::Matrix3d stretch_covariance_ = Eigen::Matrix3d::Zero();         // since the last node
   Eigen::Matrix3d stretch_gating_covariance_ = Eigen::Matrix3d::Zero();  // ... for the gate
   bool stretch_after_failure_ = false;
   // The first node after a tracker failure, until a closure ties a node from it on to an older
@@ -197,6 +211,7 @@ class Mapper {
   std::vector<TrajectoryEntry> trajectory_;
   std::size_t first_pending_entry_ = 0;
   std::vector<PendingWaypoint> pending_waypoints_;
+  std::deque<RefinementScan> refinement_scans_;  // this session's, oldest first
 };
 
 }  // namespace longterm_mapper2d

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "longterm_mapper2d/core/config/option_errors.h"
@@ -39,11 +40,24 @@ std::vector<Pose2> SmoothAcrossLocalMaps(const std::vector<double>& stamps_s,
                                          const std::vector<Pose2>& tracker_T_base,
                                          double half_window_s);
 
+// For each i, the mean of C_j * poses[i] over the j within half_window_s of i that have a
+// correction C_j (position: the mean; heading: the circular mean), or poses[i] unchanged where no
+// j in its window has one. Stamps non-decreasing. O(n).
+std::vector<Pose2> AverageCorrections(const std::vector<double>& stamps_s,
+                                      const std::vector<std::optional<Pose2>>& corrections,
+                                      const std::vector<Pose2>& poses, double half_window_s);
+
 // SmoothAcrossLocalMaps on each stretch of consecutive poses that have `in_stretch` set and
 // non-decreasing stamps, in place (`chain`: the tracker's poses, or any locally consistent
 // trajectory of the same scans); poses outside every stretch are left as they are.
 void SmoothStretches(const std::vector<double>& stamps_s, const std::vector<bool>& in_stretch,
                      const std::vector<Pose2>& chain, double half_window_s,
                      std::vector<Pose2>& map_T_base);
+
+// AverageCorrections on each stretch (as SmoothStretches) of map_T_base, in place: the map-frame
+// corrections of some scans (e.g. the trajectory refinement's) spread to the scans around them.
+void CorrectStretches(const std::vector<double>& stamps_s, const std::vector<bool>& in_stretch,
+                      const std::vector<std::optional<Pose2>>& corrections, double half_window_s,
+                      std::vector<Pose2>& map_T_base);
 
 }  // namespace longterm_mapper2d

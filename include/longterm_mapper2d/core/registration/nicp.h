@@ -8,6 +8,7 @@
 #include "longterm_mapper2d/core/cloud/range_projector.h"
 #include "longterm_mapper2d/core/cloud/rich_point.h"
 #include "longterm_mapper2d/core/geometry/pose2.h"
+#include "longterm_mapper2d/core/registration/nearest_neighbour_grid.h"
 #include "longterm_mapper2d/core/registration/registration_options.h"
 
 namespace longterm_mapper2d {
@@ -84,6 +85,11 @@ class Nicp {
                                            const std::optional<Pose2>& validation_viewpoint,
                                            const std::optional<PosePrior>& prior);
 
+  // The same over a grid built once for many alignments with one reference (`grid` built over
+  // `reference` with a radius of at least max_correspondence_distance_m); not validated.
+  RegistrationResult AlignNearestNeighbour(const NearestNeighbourGrid& grid, const Cloud& reference,
+                                           const Cloud& current, const Pose2& guess,
+                                           const std::optional<PosePrior>& prior);
   // The validation of §3.4: both clouds seen from `viewpoint` (reference frame), bin by bin.
   RegistrationValidation Validate(const Cloud& reference, const Cloud& current,
                                   const Pose2& reference_T_current, const Pose2& viewpoint,
