@@ -20,7 +20,7 @@ namespace longterm_mapper2d {
 // So at the end, the session's waypoint scans (every input.waypoint_spacing_m) are aligned once
 // more, each with the clouds of all local maps at their final poses, from where the trajectory has
 // it; the corrections are averaged over half_window_s and applied to every scan's pose. Intel over
-// eleven settings: 0.0302 -> 0.0271 m mean relation error, every one better (README, "Accuracy").
+// eleven settings: 0.0302 -> 0.0268 m mean relation error, every one better (README, "Accuracy").
 struct TrajectoryRefinementOptions {
   bool enabled = true;
   // Nearest-neighbour pairs within this distance (the map is final; the guess is close).
