@@ -7,13 +7,16 @@
 namespace longterm_mapper2d {
 namespace {
 
-Cloud MapPoints(const std::map<NodeId, LocalMapNode>& nodes) {
+Cloud MapPoints(const std::map<NodeId, LocalMapNode>& nodes, bool own_points_only) {
   std::size_t count = 0;
   for (const auto& [id, node] : nodes) count += node.cloud.size();
   Cloud points;
   points.reserve(count);
   for (const auto& [id, node] : nodes) {
-    for (const RichPoint& p : node.cloud) points.push_back(Transform(node.map_T_node, p));
+    for (const RichPoint& p : node.cloud) {
+      if (own_points_only && p.inherited) continue;
+      points.push_back(Transform(node.map_T_node, p));
+    }
   }
   return points;
 }
@@ -27,7 +30,7 @@ TrajectoryRefiner::TrajectoryRefiner(const TrajectoryRefinementOptions& options,
     : options_(options),
       registration_(registration),
       cloud_(cloud),
-      map_points_(MapPoints(nodes)),
+      map_points_(MapPoints(nodes, options.own_points_only)),
       grid_(map_points_, options.max_correspondence_distance_m) {
   registration_.max_correspondence_distance_m = options.max_correspondence_distance_m;
 }

@@ -72,6 +72,38 @@ TEST(TrajectoryRefiner, InACorridorThePriorHoldsThePoseAlongIt) {
   EXPECT_NEAR(refined->x(), guess.x(), 0.02);
 }
 
+TEST(TrajectoryRefiner, PointsAMergeCarriedOverAreLeftOutOfTheTarget) {
+  // Node 7 also holds the room as an older local map saw it, merged in while the graph had that
+  // older node 6 cm and 1.1 deg off: those points are marked inherited, and the older node's scans,
+  // re-anchored by the same merge, sit just as far off. Aligned with every point, such a scan
+  // stays on the stale copy; with the own points only, it lands where it was taken.
+  const auto walls = test_support::IrregularRoom();
+  auto nodes = TwoNodeMap(walls, Pose2(-2.0, 0.5, 0.3), Pose2(2.0, -0.5, -1.0));
+  nodes.erase(NodeId{3});  // the own points and the stale copy, one each
+  LocalMapNode& node = nodes[NodeId{7}];
+  const Pose2 stale(0.06, -0.03, 0.02);  // node 7's frame: where the merge put the old points
+  for (RichPoint p : CloudSeenFrom(walls, node.map_T_node, 20.0)) {
+    p = Transform(stale, p);
+    p.inherited = true;
+    node.cloud.push_back(p);
+  }
+  const Pose2 truth(0.5, 0.8, 0.7);
+  const Scan scan(walls, truth);
+  const Pose2 guess = node.map_T_node * stale * node.map_T_node.inverse() * truth;
+  TrajectoryRefinementOptions options;
+  const TrajectoryRefiner own(options, {}, {}, nodes);
+  options.own_points_only = false;
+  const TrajectoryRefiner all(options, {}, {}, nodes);
+  EXPECT_LT(own.map_points(), all.map_points());
+  const auto by_own = own.Align(scan.scan, scan.base_T_laser, guess);
+  const auto by_all = all.Align(scan.scan, scan.base_T_laser, guess);
+  ASSERT_TRUE(by_own.has_value());
+  ASSERT_TRUE(by_all.has_value());
+  EXPECT_LT((by_own->translation() - truth.translation()).norm(), 0.01);
+  EXPECT_LT(std::abs(NormalizeAngle(by_own->theta() - truth.theta())), 0.003);
+  EXPECT_GT((by_all->translation() - truth.translation()).norm(), 0.03);
+}
+
 TEST(TrajectoryRefiner, ACorrectionBeyondTheGatesIsRefused) {
   const auto walls = test_support::IrregularRoom();
   const auto nodes = TwoNodeMap(walls, Pose2(-2.0, 0.5, 0.3), Pose2(2.0, -0.5, -1.0));
