@@ -37,7 +37,8 @@ if(LTM_ROS_TEST_SOURCES)
 endif()
 
 # Integration tests with roscore: test/rostest/*.test, run through rostest by CTest. Their test
-# scripts go next to the executables, where roslaunch finds nodes of this package.
+# scripts go next to the executables, where roslaunch finds nodes of this package. They run alone
+# (RUN_SERIAL) under `ctest -j`: their nodes play bags against the wall clock.
 file(GLOB LTM_ROSTEST_SCRIPTS CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/test/rostest/*.py")
 foreach(script ${LTM_ROSTEST_SCRIPTS})
   get_filename_component(script_name ${script} NAME)
@@ -50,7 +51,7 @@ foreach(rostest_file ${LTM_ROSTESTS})
     COMMAND "${CMAKE_CURRENT_SOURCE_DIR}/scripts/run_rostest.sh" "${CATKIN_DEVEL_PREFIX}"
             "${rostest_file}")
   set_tests_properties(rostest_${rostest_name} PROPERTIES LABELS rostest TIMEOUT 1200
-                       SKIP_RETURN_CODE 77)
+                       SKIP_RETURN_CODE 77 RUN_SERIAL TRUE)
 endforeach()
 
 install(TARGETS longterm_mapper2d_core longterm_mapper2d_offline longterm_mapper2d_ros ${LTM_ROS_EXECUTABLE_TARGETS}
