@@ -86,7 +86,7 @@ if [ $((passed + failed)) -eq 0 ]; then
   failed=1
 fi
 
-# CI: everything again under AddressSanitizer + UBSan, in the sanitized catkin workspace
+# CI: the tests again under AddressSanitizer + UBSan, in the sanitized catkin workspace
 # (.build_ws_sanitize, the build `--sanitize` uses): the unit tests (core and ROS layer) and part of
 # the real-data tier two at a time, then the rostests one at a time (their nodes are timed by the
 # clock). The sanitizers look for memory and undefined-behaviour faults, which depend on the code
