@@ -138,6 +138,7 @@ RegistrationResult Tracker::Register(const ScanInput& input, const Cloud& base_p
   RegistrationResult registration = nicp_.AlignProjective(
       targets, base_points, guess, input.base_T_laser, geometry, prior,
       locating ? Nicp::ValidationView::kFromGuess : Nicp::ValidationView::kFromResult);
+  stats.counters["registration_targets_seen_through"] += registration.seen_through;
   if (!locating && prior && !registration.validation.accepted) {
     // Odometry can be badly wrong for a step (wheel slip, turning in place): let the scan
     // decide alone before giving up on the local map.

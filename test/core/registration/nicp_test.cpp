@@ -101,6 +101,49 @@ TEST(Nicp, OdometryPriorHoldsAnAmbiguousCorridorMatch) {
   EXPECT_LT(result.information(0, 0), 0.01 * result.information(1, 1));
 }
 
+TEST(Nicp, TargetsTheScanSeesThroughAreNoPartners) {
+  // A corridor (its ends out of range) with a person who stood 1.4 m ahead of the reference
+  // scan and has walked on 0.3 m along the corridor by the current one; odometry is exact. Only
+  // the person pins x: paired with where they stood, they drag the scan back along the
+  // corridor. The current beams end behind where the person stood: with the check those
+  // reference points are left out and x stays where odometry and the walls put it.
+  SyntheticLaser laser;
+  laser.max_range_m = 8.0;
+  const Pose2 truth(0.1, 0.0, 0.0);
+  const Eigen::Vector3d stood(1.5, 0.3, 0.25), walked(1.8, 0.3, 0.25);
+  const CloudOptions cloud_options;
+  Cloud reference = CloudFromScan(CastScan(test_support::Corridor(), {stood}, Pose2(), laser, 1),
+                                  Pose2(), cloud_options);
+  for (RichPoint& p : reference) p.observations = 2;  // seen in place twice, then moved
+  const LaserScan scan = CastScan(test_support::Corridor(), {walked}, truth, laser, 2);
+  const Cloud current = CloudFromScan(scan, Pose2(), cloud_options);
+  const auto geometry = ProjectorGeometry::FromScan(scan, 30.0);
+  const PosePrior prior{truth, Eigen::Vector3d(200.0, 200.0, 400.0).asDiagonal()};
+  auto align = [&](const RegistrationOptions& options) {
+    Nicp nicp(options);
+    return nicp.AlignProjective(reference, current, truth, Pose2(), geometry, prior);
+  };
+  RegistrationOptions options;
+  const auto dragged = align(options);
+  ASSERT_TRUE(dragged.solved);
+  EXPECT_EQ(dragged.seen_through, 0);
+  EXPECT_GT(std::abs(dragged.reference_T_current.x() - truth.x()), 0.1);
+
+  options.see_through_margin_m = 0.15;
+  const auto kept = align(options);
+  ASSERT_TRUE(kept.solved);
+  EXPECT_GT(kept.seen_through, 5);
+  EXPECT_NEAR(kept.reference_T_current.x(), truth.x(), 0.01);
+  EXPECT_NEAR(kept.reference_T_current.y(), truth.y(), 0.01);
+  EXPECT_NEAR(kept.reference_T_current.theta(), truth.theta(), 0.005);
+
+  // Points seen by more scans than see_through_max_observations are trusted to have stayed.
+  for (RichPoint& p : reference) p.observations = 4;
+  const auto trusted = align(options);
+  EXPECT_EQ(trusted.seen_through, 0);
+  EXPECT_EQ(trusted.reference_T_current.vector(), dragged.reference_T_current.vector());
+}
+
 TEST(Nicp, PositionInformationRatioIsTheWeakOverTheStrongAxis) {
   // The ratio ignores the heading and does not depend on how the weak axis is turned.
   const double c = std::cos(0.7), s = std::sin(0.7);

@@ -47,7 +47,8 @@ struct RegistrationResult {
   int correspondences = 0;
   int outliers = 0;  // pairs capped by the robust kernel in the last iteration
   double chi2 = 0.0;
-  bool solved = false;  // false: no usable system (no pairs and no prior)
+  bool solved = false;   // false: no usable system (no pairs and no prior)
+  int seen_through = 0;  // reference points left out: the scan saw through them (projective)
   RegistrationValidation validation;
 };
 
@@ -103,6 +104,12 @@ class Nicp {
                                                    const Pose2& view_T_current,
                                                    const ProjectorGeometry& geometry);
 
+  // RegistrationOptions::see_through_margin_m: marks in seen_through_ the reference points the
+  // current cloud, placed at `guess`, sees through (reference_image_ must be the reference seen
+  // from the guessed sensor pose); returns how many.
+  int MarkSeenThrough(const Cloud& reference, const Cloud& current, const Pose2& guess,
+                      const Pose2& viewpoint_T_reference, const ProjectorGeometry& geometry);
+
   struct Pair {
     int reference;
     int current;
@@ -115,6 +122,7 @@ class Nicp {
   RangeImage reference_image_;
   RangeImage current_image_;
   std::vector<Pair> pairs_;
+  std::vector<char> seen_through_;  // per reference point (AlignProjective)
   Cloud current_in_reference_;
 };
 
